@@ -1,0 +1,10 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace cleanmap::app {
+
+// Each subcommand registers its options and its callback on the top-level app.
+void register_demo(CLI::App& app);
+
+}  // namespace cleanmap::app

@@ -1,0 +1,36 @@
+#include <tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <memory>
+
+#include "apps/commands.hpp"
+#include "io/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"cleanmap: clean static maps from raw lidar logs (spatiotemporal normals)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "cleanmap 0.1.0");
+  int threads = 0;
+  app.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  cleanmap::app::register_demo(app);
+  std::unique_ptr<tbb::global_control> limit;
+  app.parse_complete_callback([&] {
+    if (threads > 0) {
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    static_cast<std::size_t>(threads));
+    }
+  });
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const cleanmap::Error& e) {
+    std::fprintf(stderr, "cleanmap: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cleanmap: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/scan.hpp"
+
+namespace cleanmap {
+
+enum class TimeUnit { kAuto, kSeconds, kMilliseconds, kMicroseconds, kNanoseconds };
+
+// Parses "auto", "s", "ms", "us", "ns"; throws Error on anything else.
+TimeUnit parse_time_unit(const std::string& text);
+
+struct CloudReadOptions {
+  TimeUnit time_unit = TimeUnit::kAuto;
+};
+
+// Reads a PCD (ascii, binary, binary_compressed; any field layout) or PLY file through PCL.
+// x, y, z are required. Intensity comes from `intensity`, `remission`, `reflectivity`, `i`, or
+// the grey value of a packed `rgb`. Per-point time from `t`, `time`, `timestamp`, `stamp`; its
+// unit is detected from the spread of the values (a sweep lasts well under a second) unless
+// given; absolute times (epoch) become `stamp` plus relative times. A PCD VIEWPOINT other than
+// identity becomes the scan's pose. NaN points are kept; callers drop them.
+Scan read_cloud(const std::filesystem::path& file, const CloudReadOptions& options = {});
+
+// A float32 per-point field to write beside x, y, z (e.g. "score", "label", "scan").
+struct CloudField {
+  std::string name;
+  std::vector<float> values;
+};
+
+struct CloudWriteOptions {
+  bool compressed = false;  // PCD binary_compressed instead of binary
+  // Written as the PCD VIEWPOINT (sensor pose in the frame of the points): set it for clouds in
+  // the world frame, leave it empty for clouds in the sensor frame.
+  std::optional<Eigen::Isometry3d> viewpoint;
+};
+
+// Writes x y z [intensity] [t] [extra fields] as float32: binary PCD or binary PLY, chosen by
+// the extension.
+void write_cloud(const std::filesystem::path& file, const Scan& scan,
+                 const std::vector<CloudField>& extra = {}, const CloudWriteOptions& options = {});
+
+}  // namespace cleanmap

@@ -1,0 +1,42 @@
+#include "io/scan.hpp"
+
+#include <cmath>
+
+namespace cleanmap {
+
+Scan select_points(const Scan& scan, const std::vector<std::int32_t>& indices) {
+  Scan out;
+  out.stamp = scan.stamp;
+  out.pose = scan.pose;
+  out.name = scan.name;
+  out.input_size = scan.input_size ? scan.input_size : scan.size();
+  const auto n = static_cast<Eigen::Index>(indices.size());
+  out.points.resize(3, n);
+  if (scan.has_time()) out.time.resize(n);
+  if (scan.has_intensity()) out.intensity.resize(n);
+  out.input_index.resize(indices.size());
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto i = indices[k];
+    out.points.col(k) = scan.points.col(i);
+    if (scan.has_time()) out.time[k] = scan.time[i];
+    if (scan.has_intensity()) out.intensity[k] = scan.intensity[i];
+    out.input_index[k] = scan.input_index.empty() ? i : scan.input_index[i];
+  }
+  return out;
+}
+
+std::size_t drop_non_finite(Scan& scan) {
+  std::vector<std::int32_t> keep;
+  keep.reserve(scan.size());
+  const bool timed = scan.has_time();
+  for (Eigen::Index i = 0; i < scan.points.cols(); ++i) {
+    if (scan.points.col(i).allFinite() && (!timed || std::isfinite(scan.time[i]))) {
+      keep.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  const std::size_t dropped = scan.size() - keep.size();
+  if (dropped > 0) scan = select_points(scan, keep);
+  return dropped;
+}
+
+}  // namespace cleanmap

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cleanmap {
+
+// One sweep of a range sensor. Points are the columns of a 3xN matrix so that Eigen maps,
+// nanoflann adaptors and TBB loops read them in place; per-point fields are parallel vectors.
+struct Scan {
+  Eigen::Matrix3Xf points;    // metres, sensor frame (or world frame once registered)
+  Eigen::VectorXf time;       // seconds relative to `stamp`; empty when the sensor gives none
+  Eigen::VectorXf intensity;  // empty when the input has none
+  double stamp = 0.0;         // seconds; the time `pose` refers to
+  std::optional<Eigen::Isometry3d> pose;  // sensor -> world at `stamp`, once known
+  std::string name;           // file stem ("000123"); outputs for this scan reuse it
+
+  // Position of each point in the file it came from, when points were dropped on reading
+  // (NaNs); empty means point i is input point i. Per-point outputs are written in input order.
+  std::vector<std::int32_t> input_index;
+  std::size_t input_size = 0;  // number of points in the file
+
+  std::size_t size() const { return static_cast<std::size_t>(points.cols()); }
+  bool empty() const { return points.cols() == 0; }
+  bool has_time() const { return time.size() == points.cols() && points.cols() > 0; }
+  bool has_intensity() const { return intensity.size() == points.cols() && points.cols() > 0; }
+};
+
+// Keeps the listed points (in the given order) in every per-point field, composing input_index.
+Scan select_points(const Scan& scan, const std::vector<std::int32_t>& indices);
+
+// Drops points with a NaN or infinite coordinate (or time); returns how many were dropped.
+std::size_t drop_non_finite(Scan& scan);
+
+// Scatters a per-point value back to input order; points dropped on reading get `fill`.
+template <typename T>
+std::vector<T> to_input_order(const Scan& scan, const std::vector<T>& values, T fill) {
+  if (scan.input_index.empty()) return values;
+  std::vector<T> out(scan.input_size, fill);
+  for (std::size_t i = 0; i < values.size(); ++i) out[scan.input_index[i]] = values[i];
+  return out;
+}
+
+}  // namespace cleanmap

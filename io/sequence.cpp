@@ -1,0 +1,135 @@
+#include "io/sequence.hpp"
+
+#include <algorithm>
+
+#include "io/error.hpp"
+#include "io/kitti_bin.hpp"
+#include "io/label_file.hpp"
+
+namespace cleanmap {
+namespace fs = std::filesystem;
+namespace {
+
+bool is_scan_file(const fs::path& p) {
+  const auto ext = p.extension().string();
+  return ext == ".bin" || ext == ".pcd" || ext == ".ply";
+}
+
+std::vector<fs::path> list_scans(const fs::path& dir) {
+  std::vector<fs::path> out;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.is_regular_file() && is_scan_file(entry.path())) out.push_back(entry.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void check_count(const fs::path& file, std::size_t have, std::size_t want, const char* what) {
+  if (have != want) {
+    fail(file, "has " + std::to_string(have) + " " + what + " but the sequence has " +
+                   std::to_string(want) + " scans");
+  }
+}
+
+}  // namespace
+
+bool Sequence::has_labels() const {
+  return std::any_of(labels.begin(), labels.end(), [](const fs::path& p) { return !p.empty(); });
+}
+
+Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
+  if (!fs::exists(folder)) fail(folder, "no such folder");
+  if (!fs::is_directory(folder)) fail(folder, "is not a folder");
+  Sequence seq;
+  seq.root = folder;
+  seq.cloud = options.cloud;
+  fs::path scan_dir = folder;
+  if (fs::is_directory(folder / "velodyne")) {
+    seq.layout = "kitti";
+    scan_dir = folder / "velodyne";
+  } else if (fs::is_directory(folder / "scans")) {
+    seq.layout = "scans-folder";
+    scan_dir = folder / "scans";
+  } else {
+    seq.layout = "plain-folder";
+  }
+  seq.scans = list_scans(scan_dir);
+  if (seq.scans.empty()) fail(scan_dir, "contains no scan files (.bin, .pcd, .ply)");
+  const std::size_t n = seq.scans.size();
+
+  seq.labels.resize(n);
+  if (fs::is_directory(folder / "labels")) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto p = folder / "labels" / (seq.scans[i].stem().string() + ".label");
+      if (fs::exists(p)) seq.labels[i] = p;
+    }
+  }
+
+  if (fs::exists(folder / "calib.txt")) seq.calib_tr = read_kitti_calib_tr(folder / "calib.txt");
+
+  std::vector<StampedPose> stamped;
+  fs::path poses_file = options.poses_file;
+  if (poses_file.empty() && fs::exists(folder / "poses.txt")) poses_file = folder / "poses.txt";
+  if (!poses_file.empty()) {
+    stamped = read_poses(poses_file, options.pose_format);
+    check_count(poses_file, stamped.size(), n, "poses");
+    const bool kitti = std::isnan(stamped.front().stamp);
+    const bool to_lidar = kitti && seq.calib_tr && options.kitti_poses_in_camera_frame;
+    for (const auto& p : stamped) {
+      seq.poses.push_back(to_lidar ? Eigen::Isometry3d(seq.calib_tr->inverse() * p.pose * *seq.calib_tr)
+                                   : p.pose);
+    }
+    seq.poses_source = poses_file.string() + (to_lidar ? " (camera frame -> lidar via Tr)" : "");
+  }
+
+  fs::path times_file = options.times_file;
+  if (times_file.empty() && fs::exists(folder / "times.txt")) times_file = folder / "times.txt";
+  if (!times_file.empty()) {
+    seq.times = read_times(times_file);
+    check_count(times_file, seq.times.size(), n, "times");
+    seq.times_source = times_file.string();
+  } else if (!stamped.empty() && !std::isnan(stamped.front().stamp)) {
+    for (const auto& p : stamped) seq.times.push_back(p.stamp);
+    seq.times_source = "pose stamps";
+  } else {
+    if (!(options.rate_hz > 0.0)) throw Error("scan rate must be positive");
+    for (std::size_t i = 0; i < n; ++i) seq.times.push_back(static_cast<double>(i) / options.rate_hz);
+    seq.times_source = "rate " + std::to_string(options.rate_hz) + " Hz";
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(seq.times[i] > seq.times[i - 1])) {
+      fail(times_file.empty() ? folder : times_file,
+           "scan times must increase (scan " + std::to_string(i) + ")");
+    }
+  }
+  return seq;
+}
+
+Scan read_scan_file(const fs::path& file, const CloudReadOptions& options) {
+  if (file.extension() == ".bin") return read_kitti_bin(file);
+  return read_cloud(file, options);
+}
+
+LoadedScan load_scan(const Sequence& seq, std::size_t index) {
+  LoadedScan out;
+  out.scan = read_scan_file(seq.scans.at(index), seq.cloud);
+  Scan& scan = out.scan;
+  if (!seq.labels[index].empty()) {
+    out.labels = read_labels(seq.labels[index], scan.size());
+  }
+  // Per-point times read as epoch offsets are re-expressed relative to the sequence's stamp.
+  if (scan.has_time() && scan.stamp != 0.0) {
+    scan.time.array() += static_cast<float>(scan.stamp - seq.times[index]);
+  }
+  scan.stamp = seq.times[index];
+  if (seq.has_poses()) scan.pose = seq.poses[index];
+  out.dropped_non_finite = drop_non_finite(scan);
+  if (out.dropped_non_finite > 0 && !out.labels.empty()) {
+    std::vector<std::uint32_t> kept(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) kept[i] = out.labels[scan.input_index[i]];
+    out.labels = std::move(kept);
+  }
+  return out;
+}
+
+}  // namespace cleanmap

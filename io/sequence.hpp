@@ -1,0 +1,60 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/cloud_file.hpp"
+#include "io/pose_file.hpp"
+#include "io/scan.hpp"
+
+namespace cleanmap {
+
+struct SequenceOptions {
+  std::filesystem::path poses_file;  // instead of <folder>/poses.txt
+  PoseFormat pose_format = PoseFormat::kAuto;
+  std::filesystem::path times_file;  // instead of <folder>/times.txt
+  double rate_hz = 10.0;             // scan spacing when no times are known
+  // KITTI ground truth is in the camera-0 frame; with a calib.txt beside it, poses are turned
+  // into lidar poses (Tr^-1 P Tr) unless this is false.
+  bool kitti_poses_in_camera_frame = true;
+  CloudReadOptions cloud;
+};
+
+// A log given as one folder, found automatically: a KITTI sequence (velodyne/*.bin, labels/,
+// poses.txt, times.txt, calib.txt), a folder with a scans/ subfolder, or a plain folder of
+// .bin/.pcd/.ply scans, sorted by name. Scans are read one at a time (load_scan).
+struct Sequence {
+  std::filesystem::path root;
+  std::string layout;  // "kitti", "scans-folder" or "plain-folder"
+  std::vector<std::filesystem::path> scans;
+  std::vector<std::filesystem::path> labels;  // per scan; empty path where none
+  std::vector<double> times;                  // per scan, seconds
+  std::string times_source;                   // file name, "pose stamps" or "rate"
+  std::vector<Eigen::Isometry3d> poses;       // sensor -> world per scan, or empty
+  std::string poses_source;
+  std::optional<Eigen::Isometry3d> calib_tr;  // KITTI velodyne -> camera 0
+  CloudReadOptions cloud;
+
+  std::size_t size() const { return scans.size(); }
+  bool has_poses() const { return !poses.empty(); }
+  bool has_labels() const;
+};
+
+Sequence open_sequence(const std::filesystem::path& folder, const SequenceOptions& options = {});
+
+struct LoadedScan {
+  Scan scan;                          // NaN/inf points dropped, stamp and pose set
+  std::vector<std::uint32_t> labels;  // per kept point when the sequence has labels
+  std::size_t dropped_non_finite = 0;
+};
+
+LoadedScan load_scan(const Sequence& sequence, std::size_t index);
+
+// Reads a single scan file of any supported format (.bin, .pcd, .ply).
+Scan read_scan_file(const std::filesystem::path& file, const CloudReadOptions& options = {});
+
+}  // namespace cleanmap

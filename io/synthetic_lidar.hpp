@@ -1,0 +1,69 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "io/scan.hpp"
+
+namespace cleanmap {
+
+// A spinning multi-beam lidar: beams fire column by column over one revolution, so every point
+// has its own capture time and sensor pose (rolling shutter), as on a real sensor.
+struct LidarModel {
+  int beams = 64;
+  int columns = 2048;
+  double rate_hz = 10.0;
+  double fov_up_deg = 22.5;  // Ouster OS1-64-like vertical field of view
+  double fov_down_deg = -22.5;
+  double min_range = 0.8;
+  double max_range = 100.0;
+  double range_noise = 0.01;  // metres, Gaussian, along the ray
+};
+
+// An upright box (cars, buildings) or vertical cylinder (poles, pedestrians) standing on z = 0,
+// moving at a constant velocity (zero for static structure).
+struct SceneObject {
+  enum class Shape { kBox, kCylinder } shape = Shape::kBox;
+  Eigen::Vector2d centre{0, 0};    // at time 0
+  Eigen::Vector2d velocity{0, 0};  // m/s in the world frame
+  double yaw = 0.0;                // boxes only
+  Eigen::Vector3d size{1, 1, 1};   // box: length, width, height; cylinder: radius, -, height
+  float intensity = 50.0f;
+  std::uint32_t id = 0;  // instance id, written in the upper 16 bits of the labels
+  bool moving() const { return velocity.squaredNorm() > 0.0; }
+};
+
+struct SyntheticWorld {
+  std::vector<SceneObject> objects;
+  // Sensor path: forward at `speed` along x with a gentle lateral sway (yaw follows the path).
+  double speed = 5.0;
+  double sway_amplitude = 0.5;
+  double sway_period = 8.0;
+  double sensor_height = 1.8;
+};
+
+struct SyntheticConfig {
+  LidarModel lidar;
+  int scans = 30;
+  std::uint64_t seed = 1;
+};
+
+struct SyntheticScan {
+  Scan scan;  // sensor frame, distorted by the motion during the sweep; pose = pose at stamp
+  std::vector<std::uint32_t> labels;  // MOS labels: 251 moving / 9 static, instance id above
+};
+
+// A street: buildings, poles, parked cars, cars in both lanes and pedestrians crossing and
+// walking, placed from the seed.
+SyntheticWorld make_street_world(std::uint64_t seed);
+
+// Sensor -> world at time t (seconds from the start of the sequence).
+Eigen::Isometry3d sensor_pose(const SyntheticWorld& world, double t);
+
+// Scan `index` of the sequence: stamp = index / rate (start of the sweep), per-point times in
+// [0, 1/rate). Deterministic for (world, model, index, seed).
+SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar,
+                            std::size_t index, std::uint64_t seed);
+
+}  // namespace cleanmap

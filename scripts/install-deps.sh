@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Installs every Debian package cleanmap builds, tests and benchmarks with. Idempotent; run as root
+# (or through sudo) on Debian 12.
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq \
+  build-essential cmake ninja-build pkg-config \
+  libeigen3-dev libceres-dev libpcl-dev liboctomap-dev libnanoflann-dev libtbb-dev \
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev \
+  > /dev/null
+echo "install-deps: all packages present"

@@ -1,0 +1,79 @@
+// The command line as a user meets it: exit codes, one-line errors, outputs.
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+
+struct Result {
+  int code;
+  std::string output;
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(CLEANMAP_BINARY) + " " + args + " 2>&1";
+  std::FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::fgets(buf, sizeof(buf), p)) out += buf;
+  const int status = pclose(p);
+  return {WEXITSTATUS(status), out};
+}
+
+TEST(Cli, UnknownOptionFails) {
+  const auto r = run("demo --no-such-option");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("--no-such-option"), std::string::npos) << r.output;
+}
+
+TEST(Cli, HelpOnEverySubcommand) {
+  const auto r = run("demo --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.output.find("--out"), std::string::npos);
+  EXPECT_NE(r.output.find("--beams"), std::string::npos);
+}
+
+TEST(Cli, DemoWritesASequenceAndACompleteSummary) {
+  test::TempDir dir;
+  const auto r = run("demo --out " + dir.path.string() + " --scans 3 --beams 16 --columns 256");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"sequence/scans/000002.pcd", "sequence/labels/000002.label",
+                        "sequence/poses.txt", "sequence/times.txt", "summary.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  }
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  EXPECT_EQ(summary["synthetic"]["beams"].get<int>(), 16);
+}
+
+TEST(Cli, ConfigValuesApplyAndCommandLineOverrides) {
+  test::TempDir dir;
+  std::ofstream(dir / "c.yaml") << "synthetic:\n  scans: 2\n  beams: 8\n  columns: 128\n";
+  const auto r = run("demo --out " + (dir / "o").string() + " --config " +
+                     (dir / "c.yaml").string() + " --beams 4");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "o" / "summary.json"));
+  EXPECT_EQ(summary["synthetic"]["scans"].get<int>(), 2);
+  EXPECT_EQ(summary["synthetic"]["beams"].get<int>(), 4);
+}
+
+TEST(Cli, UnknownConfigKeyIsAnErrorNamingFileAndKey) {
+  test::TempDir dir;
+  std::ofstream(dir / "c.yaml") << "synthetic:\n  scanz: 2\n";
+  const auto r = run("demo --out " + (dir / "o").string() + " --config " + (dir / "c.yaml").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("c.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("synthetic.scanz"), std::string::npos) << r.output;
+  // One line, and no summary claiming completeness.
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  if (std::filesystem::exists(dir / "o" / "summary.json")) {
+    const auto s = nlohmann::json::parse(std::ifstream(dir / "o" / "summary.json"));
+    EXPECT_FALSE(s["complete"].get<bool>());
+  }
+}
+
+}  // namespace
+}  // namespace cleanmap

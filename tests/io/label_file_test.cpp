@@ -1,0 +1,30 @@
+#include "io/label_file.hpp"
+
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+
+TEST(LabelFile, RoundTripsAndSplitsClassAndInstance) {
+  test::TempDir dir;
+  const std::vector<std::uint32_t> labels{kLabelStatic, kLabelMoving | (7u << 16), 255u, 10u, 0u};
+  write_labels(dir / "000001.label", labels);
+  const auto r = read_labels(dir / "000001.label", labels.size());
+  EXPECT_EQ(r, labels);
+  EXPECT_EQ(semantic_class(r[1]), kLabelMoving);
+  EXPECT_EQ(instance_id(r[1]), 7u);
+  EXPECT_TRUE(is_moving_label(r[1]));
+  EXPECT_TRUE(is_moving_label(r[2]));   // SemanticKITTI moving motorcyclist
+  EXPECT_FALSE(is_moving_label(r[3]));  // parked car
+  EXPECT_FALSE(is_moving_label(r[0]));
+}
+
+TEST(LabelFile, CountDifferentFromScanIsAnError) {
+  test::TempDir dir;
+  write_labels(dir / "000002.label", std::vector<std::uint32_t>(5, kLabelStatic));
+  test::expect_error([&] { read_labels(dir / "000002.label", 6); },
+                     {"000002.label", "5 labels", "6 points"});
+}
+
+}  // namespace
+}  // namespace cleanmap
