@@ -1,0 +1,44 @@
+#pragma once
+
+#include <string>
+
+namespace cleanmap {
+
+// All the scorer's parameters, in physical units. Defaults are the paper's DOALS settings
+// (Ouster OS1-64 at 10 Hz) plus this project's improvements, each switchable.
+struct ScorerConfig {
+  // The paper's four parameters.
+  double voxel_size = 0.0;        // d_v in metres; 0 = relative: bounding-box diagonal / divisor
+  double voxel_divisor = 600.0;   // the paper's scale(P)/600
+  int window_half = 10;           // N: the window holds 2N+1 scans
+  double radius = 0.3;            // d_r, metres
+  double threshold = 0.25;        // thr on |n_t|
+
+  double time_scale = 1.0;        // metres that one second weighs in the 4D PCA
+  int min_neighbors = 10;         // fewer neighbours: the point is not scored (NaN)
+  std::string mode = "fast";      // "fast" (per-voxel sums) or "exact" (kd-tree radius search)
+  double cell_size = 0.0;         // fast mode's statistics grid; 0 = radius / 2
+
+  // Carrying scores back to full resolution.
+  std::string upsample = "nearest";  // "nearest" scored neighbour, or "paper" (any dynamic in radius)
+  double upsample_radius = 0.5;
+
+  // Ground-aware neighbourhoods: ground and non-ground points are scored only against their
+  // own kind, so ground does not tilt the normals of objects' feet.
+  bool ground_aware = true;
+  double ground_cell = 1.0;    // metres, 2D grid for the local ground height
+  double ground_height = 0.25; // points this close above the local lowest point are ground
+
+  // Object-level completion: a Euclidean cluster of non-ground points is dynamic as a whole
+  // when enough of it scores dynamic. Off = the paper's per-point output.
+  bool object_completion = true;
+  double cluster_radius = 0.6;
+  double cluster_min_fraction = 0.2;  // of its scored points
+  int cluster_min_dynamic = 3;
+  double cluster_max_extent = 12.0;   // larger clusters (buildings) are never completed
+};
+
+// Throws Error naming the bad parameter.
+void validate(const ScorerConfig& config);
+
+}  // namespace cleanmap

@@ -1,0 +1,316 @@
+#include "dynamics/spatiotemporal_scorer.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <unordered_map>
+
+#include "dynamics/euclidean_clusters.hpp"
+#include "dynamics/ground_segmentation.hpp"
+#include "dynamics/spatiotemporal_normal.hpp"
+#include "dynamics/upsample_scores.hpp"
+#include "io/error.hpp"
+#include "io/point_index.hpp"
+#include "io/voxel_downsample.hpp"
+#include "io/voxel_key.hpp"
+
+namespace cleanmap {
+namespace {
+
+using CellMap = std::unordered_map<VoxelKey, Moments4, VoxelKeyHash>;
+
+// A scan in the window, reduced to what its neighbours need.
+struct WindowScan {
+  std::size_t index = 0;
+  Scan full;                         // kept only until the scan itself is scored
+  double voxel = 0.0;
+  Eigen::Matrix3Xf points;           // downsampled, world frame
+  Eigen::VectorXd time;              // seconds since the first scan's stamp
+  std::vector<std::uint8_t> ground;  // per downsampled point (all 0 when not ground-aware)
+  std::unique_ptr<PointIndex> index_tree;  // exact mode; reads `points` in place
+};
+
+}  // namespace
+
+void validate(const ScorerConfig& c) {
+  auto bad = [](const std::string& what) { throw Error("scorer: " + what); };
+  if (c.voxel_size < 0) bad("voxel_size must be >= 0 (0 = relative to the scan's size)");
+  if (c.voxel_size == 0 && !(c.voxel_divisor > 0)) bad("voxel_divisor must be positive");
+  if (c.window_half < 0) bad("window_half must be >= 0");
+  if (!(c.radius > 0)) bad("radius must be positive");
+  if (!(c.time_scale > 0)) bad("time_scale must be positive");
+  if (c.min_neighbors < 4) bad("min_neighbors must be at least 4 (a 4D PCA needs them)");
+  if (c.mode != "fast" && c.mode != "exact") bad("mode must be 'fast' or 'exact', not '" + c.mode + "'");
+  if (c.upsample != "nearest" && c.upsample != "paper") {
+    bad("upsample must be 'nearest' or 'paper', not '" + c.upsample + "'");
+  }
+  if (c.cell_size < 0) bad("cell_size must be >= 0");
+  if (!(c.upsample_radius > 0)) bad("upsample_radius must be positive");
+  if (c.ground_aware && (!(c.ground_cell > 0) || !(c.ground_height > 0))) {
+    bad("ground_cell and ground_height must be positive");
+  }
+  if (c.object_completion && !(c.cluster_radius > 0)) bad("cluster_radius must be positive");
+}
+
+struct SpatiotemporalScorer::Impl {
+  ScorerConfig cfg;
+  double cell = 0.0;
+  std::vector<VoxelKey> offsets;  // cells that can hold points within `radius` of a query
+  std::array<CellMap, 2> cells;   // fast mode statistics, by ground class
+  std::deque<WindowScan> window;
+  std::size_t pushed = 0;
+  std::size_t scored = 0;  // scans [0, scored) have been returned
+  std::optional<double> t0;
+
+  explicit Impl(const ScorerConfig& c) : cfg(c) {
+    validate(cfg);
+    cell = cfg.cell_size > 0 ? cfg.cell_size : cfg.radius / 2;
+    const int k = static_cast<int>(std::ceil(cfg.radius / cell));
+    for (int x = -k; x <= k; ++x) {
+      for (int y = -k; y <= k; ++y) {
+        for (int z = -k; z <= k; ++z) {
+          // Closest approach of two cells `off` apart is (|off|-1) cells along each axis.
+          const Eigen::Vector3d gap(std::max(std::abs(x) - 1, 0), std::max(std::abs(y) - 1, 0),
+                                    std::max(std::abs(z) - 1, 0));
+          if (gap.norm() * cell <= cfg.radius) offsets.push_back({x, y, z});
+        }
+      }
+    }
+  }
+
+  Eigen::Vector4d cell_origin(const VoxelKey& k) const {
+    return {(k.x + 0.5) * cell, (k.y + 0.5) * cell, (k.z + 0.5) * cell, 0.0};
+  }
+
+  Eigen::Vector4d sample(const WindowScan& w, Eigen::Index i) const {
+    Eigen::Vector4d v;
+    v.head<3>() = w.points.col(i).cast<double>();
+    v[3] = cfg.time_scale * w.time[i];
+    return v;
+  }
+
+  // Per-cell statistics of one scan, relative to each cell's centre.
+  std::array<CellMap, 2> scan_cells(const WindowScan& w) const {
+    std::array<CellMap, 2> out;
+    const double inv = 1.0 / cell;
+    for (Eigen::Index i = 0; i < w.points.cols(); ++i) {
+      const auto key = voxel_of(w.points.col(i), inv);
+      out[w.ground[i]][key].add(sample(w, i) - cell_origin(key));
+    }
+    return out;
+  }
+
+  void add_cells(const WindowScan& w) {
+    const auto own = scan_cells(w);
+    for (int g = 0; g < 2; ++g) {
+      for (const auto& [key, m] : own[g]) cells[g][key] += m;
+    }
+  }
+
+  void remove_cells(const WindowScan& w) {
+    const auto own = scan_cells(w);
+    for (int g = 0; g < 2; ++g) {
+      for (const auto& [key, m] : own[g]) {
+        auto it = cells[g].find(key);
+        it->second -= m;
+        // Dropping emptied cells also resets their rounding residue.
+        if (it->second.n < 0.5) cells[g].erase(it);
+      }
+    }
+  }
+
+  WindowScan prepare(Scan scan) {
+    WindowScan w;
+    w.index = pushed;
+    if (!t0) t0 = scan.stamp;
+    w.voxel = cfg.voxel_size > 0 ? cfg.voxel_size
+                                 : bounding_box_diagonal(scan.points) / cfg.voxel_divisor;
+    if (!(w.voxel > 0)) w.voxel = 0.01;  // empty or single-point scan
+    const auto keep = voxel_downsample(scan.points, w.voxel);
+    const auto n = static_cast<Eigen::Index>(keep.size());
+    w.points.resize(3, n);
+    w.time.resize(n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      w.points.col(k) = scan.points.col(keep[k]);
+      w.time[k] = scan.stamp - *t0 + (scan.has_time() ? scan.time[keep[k]] : 0.0f);
+    }
+    const double sensor_z = scan.pose ? scan.pose->translation().z() : 0.0;
+    w.ground = cfg.ground_aware
+                   ? segment_ground(w.points, sensor_z, cfg.ground_cell, cfg.ground_height)
+                   : std::vector<std::uint8_t>(keep.size(), 0);
+    w.full = std::move(scan);
+    return w;
+  }
+
+  float score_fast(const WindowScan& w, Eigen::Index i) const {
+    const Eigen::Vector4d q = sample(w, i);
+    const auto& map = cells[w.ground[i]];
+    const auto centre = voxel_of(w.points.col(i), 1.0 / cell);
+    Moments4 m;
+    const double r_sq = cfg.radius * cfg.radius;
+    for (const auto& off : offsets) {
+      const VoxelKey key{centre.x + off.x, centre.y + off.y, centre.z + off.z};
+      const auto it = map.find(key);
+      if (it == map.end()) continue;
+      const Moments4& c = it->second;
+      const Eigen::Vector4d origin = cell_origin(key);
+      // A cell takes part when the mean of its points lies within the radius.
+      const Eigen::Vector3d mean = origin.head<3>() + c.sum.head<3>() / c.n;
+      if ((mean - q.head<3>()).squaredNorm() > r_sq) continue;
+      m += c.shifted(q - origin);
+    }
+    return spatiotemporal_score(m, cfg.min_neighbors);
+  }
+
+  float score_exact(const WindowScan& w, Eigen::Index i) const {
+    const Eigen::Vector4d q = sample(w, i);
+    const Eigen::Vector3f p = w.points.col(i);
+    const std::uint8_t cls = w.ground[i];
+    Moments4 m;  // relative to the query point itself
+    for (const auto& other : window) {
+      other.index_tree->for_each_within(p, static_cast<float>(cfg.radius), [&](std::uint32_t j, float) {
+        if (other.ground[j] != cls) return;
+        m.add(sample(other, static_cast<Eigen::Index>(j)) - q);
+      });
+    }
+    return spatiotemporal_score(m, cfg.min_neighbors);
+  }
+
+  // Grows per-point decisions to whole Euclidean clusters of non-ground points.
+  void complete_objects(const WindowScan& w, PointDecisions& d) const {
+    std::vector<std::uint8_t> include(w.ground.size());
+    for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
+    const auto id = euclidean_clusters(w.points, include, static_cast<float>(cfg.cluster_radius));
+    std::int32_t clusters = 0;
+    for (auto c : id) clusters = std::max(clusters, c + 1);
+    std::vector<int> scored(clusters, 0), dynamic(clusters, 0);
+    std::vector<Eigen::Vector3f> lo(clusters, Eigen::Vector3f::Constant(INFINITY));
+    std::vector<Eigen::Vector3f> hi(clusters, Eigen::Vector3f::Constant(-INFINITY));
+    for (std::size_t i = 0; i < id.size(); ++i) {
+      if (id[i] < 0) continue;
+      const auto p = w.points.col(static_cast<Eigen::Index>(i));
+      lo[id[i]] = lo[id[i]].cwiseMin(p);
+      hi[id[i]] = hi[id[i]].cwiseMax(p);
+      if (!std::isnan(d.score[i])) ++scored[id[i]];
+      dynamic[id[i]] += d.dynamic[i];
+    }
+    std::vector<std::uint8_t> moving(clusters, 0);
+    for (std::int32_t c = 0; c < clusters; ++c) {
+      moving[c] = dynamic[c] >= cfg.cluster_min_dynamic &&
+                  dynamic[c] >= cfg.cluster_min_fraction * scored[c] &&
+                  (hi[c] - lo[c]).head<2>().norm() <= cfg.cluster_max_extent;
+    }
+    for (std::size_t i = 0; i < id.size(); ++i) {
+      if (id[i] >= 0) d.dynamic[i] = moving[id[i]];
+    }
+  }
+
+  ScoredScan score(std::size_t index) {
+    const auto start = std::chrono::steady_clock::now();
+    WindowScan& w = window[index - window.front().index];
+    const auto n = static_cast<std::size_t>(w.points.cols());
+    PointDecisions d;
+    d.score.resize(n);
+    d.dynamic.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const auto k = static_cast<Eigen::Index>(i);
+        d.score[i] = cfg.mode == "exact" ? score_exact(w, k) : score_fast(w, k);
+        d.dynamic[i] = d.score[i] > cfg.threshold ? 1 : 0;  // NaN compares false
+      }
+    });
+    ScoredScan out;
+    out.index = index;
+    out.voxel_size = w.voxel;
+    out.downsampled = n;
+    for (std::size_t i = 0; i < n; ++i) {
+      out.scored_downsampled += std::isnan(d.score[i]) ? 0 : 1;
+      out.dynamic_before_completion += d.dynamic[i];
+    }
+    if (cfg.object_completion) complete_objects(w, d);
+    for (auto v : d.dynamic) out.dynamic_downsampled += v;
+    auto full = upsample_scores(w.full.points, w.points, d, cfg.upsample, cfg.upsample_radius);
+    out.score = std::move(full.score);
+    out.dynamic = std::move(full.dynamic);
+    out.scans_before = static_cast<int>(index - window.front().index);
+    out.scans_after = static_cast<int>(window.back().index - index);
+    out.scan = std::move(w.full);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  }
+
+  void drop_before(std::size_t first_kept) {
+    while (!window.empty() && window.front().index < first_kept) {
+      if (cfg.mode == "fast") remove_cells(window.front());
+      window.pop_front();
+    }
+  }
+};
+
+SpatiotemporalScorer::SpatiotemporalScorer(const ScorerConfig& config)
+    : impl_(std::make_unique<Impl>(config)) {}
+SpatiotemporalScorer::~SpatiotemporalScorer() = default;
+SpatiotemporalScorer::SpatiotemporalScorer(SpatiotemporalScorer&&) noexcept = default;
+SpatiotemporalScorer& SpatiotemporalScorer::operator=(SpatiotemporalScorer&&) noexcept = default;
+
+std::vector<ScoredScan> SpatiotemporalScorer::push(Scan scan) {
+  Impl& s = *impl_;
+  const auto half = static_cast<std::size_t>(s.cfg.window_half);
+  s.window.push_back(s.prepare(std::move(scan)));
+  // The index reads the points in place: build it once they sit at their final address (a
+  // deque never moves its elements on push_back/pop_front).
+  WindowScan& added = s.window.back();
+  if (s.cfg.mode == "exact") added.index_tree = std::make_unique<PointIndex>(added.points);
+  if (s.cfg.mode == "fast") s.add_cells(added);
+  const std::size_t i = s.pushed++;
+  if (i >= 2 * half) s.drop_before(i - 2 * half);
+  std::vector<ScoredScan> out;
+  if (i >= half) {
+    out.push_back(s.score(i - half));
+    s.scored = i - half + 1;
+  }
+  return out;
+}
+
+std::vector<ScoredScan> SpatiotemporalScorer::finish() {
+  Impl& s = *impl_;
+  const auto half = static_cast<std::size_t>(s.cfg.window_half);
+  std::vector<ScoredScan> out;
+  for (std::size_t c = s.scored; c < s.pushed; ++c) {
+    if (c >= half) s.drop_before(c - half);
+    out.push_back(s.score(c));
+  }
+  s.scored = s.pushed;
+  s.drop_before(s.pushed);
+  return out;
+}
+
+double SpatiotemporalScorer::fast_statistics_drift() const {
+  const Impl& s = *impl_;
+  std::array<CellMap, 2> fresh;
+  for (const auto& w : s.window) {
+    const auto own = s.scan_cells(w);
+    for (int g = 0; g < 2; ++g) {
+      for (const auto& [key, m] : own[g]) fresh[g][key] += m;
+    }
+  }
+  double drift = 0.0;
+  for (int g = 0; g < 2; ++g) {
+    if (fresh[g].size() != s.cells[g].size()) return std::numeric_limits<double>::infinity();
+    for (const auto& [key, m] : fresh[g]) {
+      const auto it = s.cells[g].find(key);
+      if (it == s.cells[g].end()) return std::numeric_limits<double>::infinity();
+      drift = std::max({drift, std::abs(m.n - it->second.n), (m.sum - it->second.sum).cwiseAbs().maxCoeff(),
+                        (m.sum_sq - it->second.sum_sq).cwiseAbs().maxCoeff()});
+    }
+  }
+  return drift;
+}
+
+std::size_t SpatiotemporalScorer::window_size() const { return impl_->window.size(); }
+
+}  // namespace cleanmap

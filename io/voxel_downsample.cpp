@@ -1,0 +1,25 @@
+#include "io/voxel_downsample.hpp"
+
+#include <unordered_set>
+
+#include "io/voxel_key.hpp"
+
+namespace cleanmap {
+
+std::vector<std::int32_t> voxel_downsample(const Eigen::Matrix3Xf& points, double voxel_size) {
+  const double inv = 1.0 / voxel_size;
+  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
+  seen.reserve(static_cast<std::size_t>(points.cols()));
+  std::vector<std::int32_t> keep;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (seen.insert(voxel_of(points.col(i), inv)).second) keep.push_back(static_cast<std::int32_t>(i));
+  }
+  return keep;
+}
+
+double bounding_box_diagonal(const Eigen::Matrix3Xf& points) {
+  if (points.cols() == 0) return 0.0;
+  return static_cast<double>((points.rowwise().maxCoeff() - points.rowwise().minCoeff()).norm());
+}
+
+}  // namespace cleanmap

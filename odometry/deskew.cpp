@@ -1,0 +1,48 @@
+#include "odometry/deskew.hpp"
+
+#include <tbb/parallel_for.h>
+
+namespace cleanmap {
+
+Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                                   double s) {
+  const Eigen::AngleAxisd delta(a.linear().transpose() * b.linear());
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = a.linear() * Eigen::AngleAxisd(s * delta.angle(), delta.axis()).toRotationMatrix();
+  out.translation() = a.translation() + s * (b.translation() - a.translation());
+  return out;
+}
+
+namespace {
+
+// Applies T_ref^-1 * T(t_i) to every point (T_ref = identity for world placement).
+Scan transform_per_point(const Scan& scan, const SweepMotion& motion,
+                         const Eigen::Isometry3d& ref_inverse) {
+  Scan out = scan;
+  if (!scan.has_time()) {
+    out.points = ((ref_inverse * motion.pose).cast<float>() * scan.points);
+    return out;
+  }
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, scan.points.cols(), 4096), [&](const auto& r) {
+    for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+      const Eigen::Isometry3d t = ref_inverse * motion.at(scan.time[i]);
+      out.points.col(i) = (t * scan.points.col(i).cast<double>()).cast<float>();
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+Scan to_world(const Scan& scan, const SweepMotion& motion) {
+  Scan out = transform_per_point(scan, motion, Eigen::Isometry3d::Identity());
+  out.pose = motion.pose;
+  return out;
+}
+
+Scan deskew(const Scan& scan, const SweepMotion& motion, double t_ref) {
+  if (!scan.has_time()) return scan;
+  return transform_per_point(scan, motion, motion.at(t_ref).inverse());
+}
+
+}  // namespace cleanmap

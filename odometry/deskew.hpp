@@ -1,0 +1,31 @@
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "io/scan.hpp"
+
+namespace cleanmap {
+
+// Pose at fraction s of the way from a (s = 0) to b (s = 1), constant linear and angular
+// velocity; s outside [0, 1] extrapolates.
+Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                                   double s);
+
+// The sensor's motion over a sweep: pose at the scan stamp and the relative motion per second
+// (as a pose delta expressed in the stamp's sensor frame), constant over the sweep.
+struct SweepMotion {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();        // sensor -> world at stamp
+  Eigen::Isometry3d next = Eigen::Isometry3d::Identity();        // sensor -> world at stamp + dt
+  double dt = 0.1;                                               // seconds between the two
+  Eigen::Isometry3d at(double t) const { return interpolate_pose(pose, next, t / dt); }
+};
+
+// Places every point in the world with the pose at its own capture time (scan.time); without
+// per-point times every point uses the stamp's pose. Returns a world-frame copy (pose kept).
+Scan to_world(const Scan& scan, const SweepMotion& motion);
+
+// Undistorts a scan into the sensor frame at reference time `t_ref` (seconds relative to the
+// stamp): p' = T(t_ref)^-1 T(t_i) p_i. A no-op without per-point times.
+Scan deskew(const Scan& scan, const SweepMotion& motion, double t_ref);
+
+}  // namespace cleanmap
