@@ -17,10 +17,10 @@ struct ScorerConfig {
   double time_scale = 1.0;        // metres that one second weighs in the 4D PCA
   int min_neighbors = 10;         // fewer neighbours: the point is not scored (NaN)
   std::string mode = "fast";      // "fast" (per-voxel sums) or "exact" (kd-tree radius search)
-  double cell_size = 0.0;         // fast mode's statistics grid; 0 = radius / 2
+  double cell_size = 0.0;         // fast mode's statistics grid; 0 = radius
 
   // Carrying scores back to full resolution.
-  std::string upsample = "nearest";  // "nearest" scored neighbour, or "paper" (any dynamic in radius)
+  std::string upsample = "paper";  // "paper" (any dynamic within the radius) or "nearest" scored neighbour
   double upsample_radius = 0.5;
 
   // Ground-aware neighbourhoods: ground and non-ground points are scored only against their
@@ -33,7 +33,7 @@ struct ScorerConfig {
   // when enough of it scores dynamic. Off = the paper's per-point output.
   bool object_completion = true;
   double cluster_radius = 0.6;
-  double cluster_min_fraction = 0.2;  // of its scored points
+  double cluster_min_fraction = 0.1;  // of its scored points
   int cluster_min_dynamic = 3;
   double cluster_max_extent = 12.0;   // larger clusters (buildings) are never completed
 };

@@ -81,10 +81,16 @@ SyntheticWorld make_street_world(std::uint64_t seed) {
       add({Shape::kCylinder, {x + 4 * u(rng), side * 8.5}, {0.0, 0.0}, 0.0, {0.15, 0, 6.0}, 120.f});
     }
   }
+  // Crossings: pedestrians cross the road there, so no car is parked across them.
+  std::vector<double> crossings;
+  for (int k = 0; k < 3; ++k) crossings.push_back(12.0 + 10.0 * k + 3 * u(rng));
   // Parked cars.
   for (int side : {-1, 1}) {
     for (double x = -50; x < 200; x += 9) {
-      if (u(rng) < 0.35) continue;
+      const bool skip = u(rng) < 0.35;
+      bool at_crossing = false;
+      for (double c : crossings) at_crossing = at_crossing || std::abs(x - c) < 4.0;
+      if (skip || at_crossing) continue;
       add({Shape::kBox, {x, side * 6.2}, {0.0, 0.0}, 0.02 * (u(rng) - 0.5), {4.4, 1.8, 1.5}, 60.f});
     }
   }
@@ -101,9 +107,9 @@ SyntheticWorld make_street_world(std::uint64_t seed) {
     add({Shape::kCylinder, {5.0 + 8.0 * k + 3 * u(rng), side * 10.5},
          {(u(rng) < 0.5 ? -1 : 1) * (1.0 + 0.6 * u(rng)), 0.0}, 0.0, {0.3, 0, 1.75}, 40.f});
   }
-  for (int k = 0; k < 3; ++k) {
-    add({Shape::kCylinder, {12.0 + 10.0 * k + 3 * u(rng), -9.0 + 2 * u(rng)},
-         {0.0, 1.0 + 0.5 * u(rng)}, 0.0, {0.3, 0, 1.75}, 40.f});
+  for (double c : crossings) {
+    add({Shape::kCylinder, {c, -9.0 + 2 * u(rng)}, {0.0, 1.0 + 0.5 * u(rng)}, 0.0,
+         {0.3, 0, 1.75}, 40.f});
   }
   return w;
 }

@@ -21,12 +21,20 @@ VoxelKey voxel_of(const Vec& p, double inv_size) {
           static_cast<std::int32_t>(std::floor(p[2] * inv_size))};
 }
 
-// The usual three-large-primes spatial hash (Teschner et al. 2003), as KISS-ICP uses.
+// Packs the three coordinates (21 bits each) and mixes them with the splitmix64 finaliser:
+// power-of-two open-addressing tables index by the low bits, which the plain XOR-of-primes
+// spatial hash leaves poorly mixed.
 struct VoxelKeyHash {
   std::size_t operator()(const VoxelKey& k) const {
-    return static_cast<std::size_t>((static_cast<std::uint32_t>(k.x) * 73856093u) ^
-                                    (static_cast<std::uint32_t>(k.y) * 19349669u) ^
-                                    (static_cast<std::uint32_t>(k.z) * 83492791u));
+    std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x) & 0x1FFFFFu) << 42) |
+                      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y) & 0x1FFFFFu) << 21) |
+                      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z) & 0x1FFFFFu));
+    h ^= h >> 30;
+    h *= 0xbf58476d1ce4e5b9ULL;
+    h ^= h >> 27;
+    h *= 0x94d049bb133111ebULL;
+    h ^= h >> 31;
+    return static_cast<std::size_t>(h);
   }
 };
 

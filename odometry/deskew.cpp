@@ -13,6 +13,23 @@ Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isom
   return out;
 }
 
+SweepMotion sweep_motion(const std::vector<Eigen::Isometry3d>& poses,
+                         const std::vector<double>& times, std::size_t i) {
+  SweepMotion m;
+  m.pose = poses.at(i);
+  if (i + 1 < poses.size()) {
+    m.next = poses[i + 1];
+    m.dt = times.at(i + 1) - times.at(i);
+  } else if (i > 0) {
+    m.next = poses[i] * (poses[i - 1].inverse() * poses[i]);
+    m.dt = times.at(i) - times.at(i - 1);
+  } else {
+    m.next = poses[i];
+    m.dt = 1.0;
+  }
+  return m;
+}
+
 namespace {
 
 // Applies T_ref^-1 * T(t_i) to every point (T_ref = identity for world placement).

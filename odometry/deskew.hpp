@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "io/scan.hpp"
 
@@ -19,6 +20,11 @@ struct SweepMotion {
   double dt = 0.1;                                               // seconds between the two
   Eigen::Isometry3d at(double t) const { return interpolate_pose(pose, next, t / dt); }
 };
+
+// The motion over sweep i of a sequence with known poses and times: towards the next pose, or
+// for the last scan continuing the previous step (a single scan does not move).
+SweepMotion sweep_motion(const std::vector<Eigen::Isometry3d>& poses,
+                         const std::vector<double>& times, std::size_t i);
 
 // Places every point in the world with the pose at its own capture time (scan.time); without
 // per-point times every point uses the stamp's pose. Returns a world-frame copy (pose kept).

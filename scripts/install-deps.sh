@@ -9,7 +9,7 @@ $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq \
   build-essential cmake ninja-build pkg-config \
   libeigen3-dev libceres-dev libpcl-dev liboctomap-dev libnanoflann-dev libtbb-dev \
-  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev \
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev robin-map-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
   > /dev/null
 echo "install-deps: all packages present"

@@ -1,0 +1,84 @@
+#pragma once
+
+// The config tables of every command: one Field per setting (YAML key and --option), grouped
+// in the preset sections "input" and "scorer".
+
+#include <string>
+
+#include "apps/config_fields.hpp"
+#include "dynamics/scorer_config.hpp"
+#include "io/sequence.hpp"
+
+namespace cleanmap::app {
+
+struct InputSettings {
+  std::string poses;              // pose file (KITTI or TUM); default <input>/poses.txt
+  std::string pose_format = "auto";
+  std::string times;              // scan times, one per line; default <input>/times.txt
+  double rate_hz = 10.0;          // scan spacing when no times are known
+  std::string time_unit = "auto"; // of per-point time fields in PCD/PLY
+  bool kitti_camera_poses = true; // KITTI poses + calib.txt: convert camera -> lidar frame
+  double eval_max_range = 0.0;    // metres from the sensor for label metrics; 0 = all
+};
+
+inline auto input_fields() {
+  return std::make_tuple(
+      CLEANMAP_FIELD("poses", poses, "Pose file (KITTI 3x4 or TUM); default <input>/poses.txt"),
+      CLEANMAP_FIELD("pose_format", pose_format, "auto, kitti or tum"),
+      CLEANMAP_FIELD("times", times, "Scan times file; default <input>/times.txt"),
+      CLEANMAP_FIELD("rate_hz", rate_hz, "Scan rate when no times are given"),
+      CLEANMAP_FIELD("time_unit", time_unit, "Unit of per-point time fields: auto, s, ms, us, ns"),
+      CLEANMAP_FIELD("kitti_camera_poses", kitti_camera_poses,
+                     "KITTI poses are camera-0 poses (converted with Tr from calib.txt)"),
+      CLEANMAP_FIELD("eval_max_range", eval_max_range,
+                     "Only points within this range (m) count in label metrics; 0 = all"));
+}
+
+inline SequenceOptions sequence_options(const InputSettings& s) {
+  SequenceOptions o;
+  o.poses_file = s.poses;
+  o.pose_format = parse_pose_format(s.pose_format);
+  o.times_file = s.times;
+  o.rate_hz = s.rate_hz;
+  o.kitti_poses_in_camera_frame = s.kitti_camera_poses;
+  o.cloud.time_unit = parse_time_unit(s.time_unit);
+  return o;
+}
+
+inline auto scorer_fields() {
+  return std::make_tuple(
+      CLEANMAP_FIELD("voxel_size", voxel_size, "d_v in m; 0 = bounding-box diagonal / voxel_divisor"),
+      CLEANMAP_FIELD("voxel_divisor", voxel_divisor, "Relative voxel size divisor (paper: 600)"),
+      CLEANMAP_FIELD("window_half", window_half, "N: the window holds 2N+1 scans"),
+      CLEANMAP_FIELD("radius", radius, "d_r: neighbourhood radius, m"),
+      CLEANMAP_FIELD("threshold", threshold, "thr on the score |n_t|"),
+      CLEANMAP_FIELD("time_scale", time_scale, "Metres one second weighs in the 4D PCA"),
+      CLEANMAP_FIELD("min_neighbors", min_neighbors, "Fewer neighbours: not scored"),
+      CLEANMAP_FIELD("mode", mode, "fast (per-cell sums) or exact (kd-tree)"),
+      CLEANMAP_FIELD("cell_size", cell_size, "Fast mode's statistics grid, m; 0 = radius"),
+      CLEANMAP_FIELD("upsample", upsample, "nearest or paper"),
+      CLEANMAP_FIELD("upsample_radius", upsample_radius, "Upsampling radius, m"),
+      CLEANMAP_FIELD("ground_aware", ground_aware, "Score ground and non-ground points apart"),
+      CLEANMAP_FIELD("ground_cell", ground_cell, "Ground grid cell, m"),
+      CLEANMAP_FIELD("ground_height", ground_height, "Height above the local lowest point that is ground, m"),
+      CLEANMAP_FIELD("object_completion", object_completion, "Grow decisions to whole clusters"),
+      CLEANMAP_FIELD("cluster_radius", cluster_radius, "Euclidean clustering distance, m"),
+      CLEANMAP_FIELD("cluster_min_fraction", cluster_min_fraction, "Share of a cluster's scored points that must be dynamic"),
+      CLEANMAP_FIELD("cluster_min_dynamic", cluster_min_dynamic, "Dynamic points a cluster needs"),
+      CLEANMAP_FIELD("cluster_max_extent", cluster_max_extent, "Clusters wider than this (m) are never completed"));
+}
+
+// Defaults <- preset section <- options given on the command line.
+template <typename Config, typename Fields>
+Config resolve(const CLI::App& cmd, const YAML::Node& preset, const std::filesystem::path& file,
+               const char* section, Config defaults, Config cli, const Fields& fields) {
+  if (preset && preset[section]) apply_yaml(preset[section], defaults, fields, file, section);
+  override_from_cli(cmd, defaults, cli, fields);
+  return defaults;
+}
+
+inline YAML::Node load_optional_preset(const std::filesystem::path& file) {
+  return file.empty() ? YAML::Node() : load_preset(file);
+}
+
+}  // namespace cleanmap::app
