@@ -7,5 +7,6 @@ namespace cleanmap::app {
 // Each subcommand registers its options and its callback on the top-level app.
 void register_demo(CLI::App& app);
 void register_score(CLI::App& app);
+void register_odometry(CLI::App& app);
 
 }  // namespace cleanmap::app

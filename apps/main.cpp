@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
   cleanmap::app::register_demo(app);
   cleanmap::app::register_score(app);
+  cleanmap::app::register_odometry(app);
   std::unique_ptr<tbb::global_control> limit;
   app.parse_complete_callback([&] {
     if (threads > 0) {

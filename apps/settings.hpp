@@ -8,6 +8,7 @@
 #include "apps/config_fields.hpp"
 #include "dynamics/scorer_config.hpp"
 #include "io/sequence.hpp"
+#include "odometry/odometry_config.hpp"
 
 namespace cleanmap::app {
 
@@ -66,6 +67,28 @@ inline auto scorer_fields() {
       CLEANMAP_FIELD("cluster_min_fraction", cluster_min_fraction, "Share of a cluster's scored points that must be dynamic"),
       CLEANMAP_FIELD("cluster_min_dynamic", cluster_min_dynamic, "Dynamic points a cluster needs"),
       CLEANMAP_FIELD("cluster_max_extent", cluster_max_extent, "Clusters wider than this (m) are never completed"));
+}
+
+inline auto odometry_fields() {
+  return std::make_tuple(
+      CLEANMAP_FIELD("min_range", min_range, "Drop closer returns, m"),
+      CLEANMAP_FIELD("max_range", max_range, "Drop farther returns, m"),
+      CLEANMAP_FIELD("map_voxel_size", map_voxel_size, "Local-map voxel, m"),
+      CLEANMAP_FIELD("max_points_per_voxel", max_points_per_voxel, "Local-map points per voxel"),
+      CLEANMAP_FIELD("map_radius", map_radius, "Local-map voxels beyond this distance are dropped, m"),
+      CLEANMAP_FIELD("registration_voxel", registration_voxel, "Registration downsampling, x map_voxel_size"),
+      CLEANMAP_FIELD("initial_threshold", initial_threshold, "Correspondence distance before motion is known, m"),
+      CLEANMAP_FIELD("min_motion", min_motion, "Smaller steps do not update the adaptive threshold, m"),
+      CLEANMAP_FIELD("max_icp_iterations", max_icp_iterations, "Correspondence searches per scan"),
+      CLEANMAP_FIELD("solver_iterations", solver_iterations, "Ceres iterations per correspondence set"),
+      CLEANMAP_FIELD("convergence", convergence, "Stop when the pose changes less (m, rad)"),
+      CLEANMAP_FIELD("normal_neighbors", normal_neighbors, "Map points per local plane"),
+      CLEANMAP_FIELD("min_points", min_points, "Fewer points: degenerate scan"),
+      CLEANMAP_FIELD("deskew", deskew, "Undistort scans with per-point times"),
+      CLEANMAP_FIELD("deskew_reference", deskew_reference, "Time a pose refers to: start, middle or end of the sweep"),
+      CLEANMAP_FIELD("time_from_azimuth", time_from_azimuth, "Derive per-point times from azimuth when absent"),
+      CLEANMAP_FIELD("vertical_correction_deg", vertical_correction_deg, "KITTI HDL-64 vertical angle fix (0.205)"),
+      CLEANMAP_FIELD("exclude_dynamic", exclude_dynamic, "Remove scorer-labelled dynamic points from the local map"));
 }
 
 // Defaults <- preset section <- options given on the command line.

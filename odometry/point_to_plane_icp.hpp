@@ -1,0 +1,36 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "odometry/odometry_config.hpp"
+#include "odometry/voxel_hash_map.hpp"
+
+namespace cleanmap {
+
+struct RegistrationResult {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  int iterations = 0;
+  int correspondences = 0;
+  double rms_residual = 0.0;  // m, point-to-plane, last iteration
+  bool converged = false;
+  bool degenerate = false;    // too few correspondences or an unconstrained direction
+};
+
+// Registers sensor-frame points to the map: point-to-plane residuals n^T (T p - m) against
+// planes fitted to the map's nearest points (weighted by planarity), a Cauchy loss of scale
+// threshold / 3, solved with Ceres over T = (Eigen quaternion, translation); correspondences
+// are searched again after each solve until the pose settles.
+RegistrationResult register_point_to_plane(const std::vector<Eigen::Vector3d>& source,
+                                           const VoxelHashMap& map,
+                                           const Eigen::Isometry3d& initial, double threshold,
+                                           const OdometryConfig& config);
+
+// Plain point-to-point ICP (closed-form Umeyama alignment per iteration, no robust loss,
+// no planes): the baseline the benchmark compares against.
+RegistrationResult register_point_to_point(const std::vector<Eigen::Vector3d>& source,
+                                           const VoxelHashMap& map,
+                                           const Eigen::Isometry3d& initial, double threshold,
+                                           const OdometryConfig& config);
+
+}  // namespace cleanmap

@@ -1,0 +1,78 @@
+#include "odometry/voxel_hash_map.hpp"
+
+#include <algorithm>
+
+namespace cleanmap {
+
+std::size_t VoxelHashMap::point_count() const {
+  std::size_t n = 0;
+  for (const auto& [key, pts] : voxels) n += pts.size();
+  return n;
+}
+
+void VoxelHashMap::add(const std::vector<Eigen::Vector3d>& points) {
+  const double inv = 1.0 / voxel_size;
+  for (const auto& p : points) {
+    auto& v = voxels[voxel_of(p, inv)];
+    if (static_cast<int>(v.size()) < max_points) v.push_back(p);
+  }
+}
+
+void VoxelHashMap::remove_far(const Eigen::Vector3d& origin) {
+  const double max_sq = max_distance * max_distance;
+  for (auto it = voxels.begin(); it != voxels.end();) {
+    if (!it->second.empty() && (it->second.front() - origin).squaredNorm() > max_sq) {
+      it = voxels.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+std::size_t VoxelHashMap::remove_near(const std::vector<Eigen::Vector3d>& points, double radius) {
+  const double inv = 1.0 / voxel_size, r_sq = radius * radius;
+  std::size_t removed = 0;
+  for (const auto& p : points) {
+    auto it = voxels.find(voxel_of(p, inv));
+    if (it == voxels.end()) continue;
+    auto& v = it.value();
+    const auto before = v.size();
+    v.erase(std::remove_if(v.begin(), v.end(), [&](const Eigen::Vector3d& m) { return (m - p).squaredNorm() < r_sq; }),
+            v.end());
+    removed += before - v.size();
+    if (v.empty()) voxels.erase(it);
+  }
+  return removed;
+}
+
+void VoxelHashMap::nearest(const Eigen::Vector3d& q, int k, double max_dist,
+                           std::vector<Eigen::Vector3d>& out) const {
+  out.clear();
+  const VoxelKey c = voxel_of(q, 1.0 / voxel_size);
+  // (squared distance, point) of the k best, kept sorted: k is small.
+  std::vector<std::pair<double, const Eigen::Vector3d*>> best;
+  const double max_sq = max_dist * max_dist;
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        const auto it = voxels.find({c.x + x, c.y + y, c.z + z});
+        if (it == voxels.end()) continue;
+        for (const auto& p : it->second) {
+          const double d = (p - q).squaredNorm();
+          if (d > max_sq) continue;
+          if (static_cast<int>(best.size()) < k) {
+            best.emplace_back(d, &p);
+            std::push_heap(best.begin(), best.end());
+          } else if (d < best.front().first) {
+            std::pop_heap(best.begin(), best.end());
+            best.back() = {d, &p};
+            std::push_heap(best.begin(), best.end());
+          }
+        }
+      }
+    }
+  }
+  for (const auto& [d, p] : best) out.push_back(*p);
+}
+
+}  // namespace cleanmap
