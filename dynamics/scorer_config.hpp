@@ -16,6 +16,9 @@ struct ScorerConfig {
 
   double time_scale = 1.0;        // metres that one second weighs in the 4D PCA
   int min_neighbors = 10;         // fewer neighbours: the point is not scored (NaN)
+  // Not scored when the smallest 4D eigenvalue exceeds this share of the next one: the normal
+  // is then ill-defined (vegetation, clutter). 0 = off, the paper's behaviour.
+  double max_eigen_ratio = 0.0;
   std::string mode = "fast";      // "fast" (per-voxel sums) or "exact" (kd-tree radius search)
   double cell_size = 0.0;         // fast mode's statistics grid; 0 = radius
 
@@ -26,6 +29,7 @@ struct ScorerConfig {
   // Ground-aware neighbourhoods: ground and non-ground points are scored only against their
   // own kind, so ground does not tilt the normals of objects' feet.
   bool ground_aware = true;
+  bool ground_static = true;   // with ground_aware: ground points are never dynamic on their own
   double ground_cell = 1.0;    // metres, 2D grid for the local ground height
   double ground_height = 0.25; // points this close above the local lowest point are ground
 

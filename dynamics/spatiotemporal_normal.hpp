@@ -51,12 +51,17 @@ struct Moments4 {
 // Where the smallest eigenvalue is repeated (a line in 4D, e.g. a thin pole, or one beam on a
 // wall) the normal is any unit vector of that eigenspace; the score is then the largest time
 // component among them, |P e_t|, which equals |n_t| whenever the normal is unique.
-inline float spatiotemporal_score(const Moments4& m, int min_neighbors) {
+// `max_eigen_ratio` (0 = off): a neighbourhood whose two smallest eigenvalues are within this
+// ratio has no well-defined normal (vegetation, clutter scattered in 4D); it is not scored.
+inline float spatiotemporal_score(const Moments4& m, int min_neighbors, double max_eigen_ratio = 0.0) {
   if (m.n < std::max(min_neighbors, 4)) return std::numeric_limits<float>::quiet_NaN();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(m.covariance(), Eigen::ComputeEigenvectors);
   if (eig.info() != Eigen::Success) return std::numeric_limits<float>::quiet_NaN();
   // Eigenvalues come sorted ascending: column 0 is the normal.
   const auto& lambda = eig.eigenvalues();
+  if (max_eigen_ratio > 0 && lambda[0] > max_eigen_ratio * lambda[1]) {
+    return std::numeric_limits<float>::quiet_NaN();
+  }
   const double tie = 1e-9 * std::max(lambda[3], 1e-30);
   double t_sq = 0.0;
   for (int k = 0; k < 4 && lambda[k] - lambda[0] <= tie; ++k) {

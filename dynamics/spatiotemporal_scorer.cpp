@@ -45,6 +45,7 @@ void validate(const ScorerConfig& c) {
   if (c.window_half < 0) bad("window_half must be >= 0");
   if (!(c.radius > 0)) bad("radius must be positive");
   if (!(c.time_scale > 0)) bad("time_scale must be positive");
+  if (c.max_eigen_ratio < 0 || c.max_eigen_ratio > 1) bad("max_eigen_ratio must be in [0, 1]");
   if (c.min_neighbors < 4) bad("min_neighbors must be at least 4 (a 4D PCA needs them)");
   if (c.mode != "fast" && c.mode != "exact") bad("mode must be 'fast' or 'exact', not '" + c.mode + "'");
   if (c.upsample != "nearest" && c.upsample != "paper") {
@@ -177,7 +178,7 @@ struct SpatiotemporalScorer::Impl {
       if ((mean - q.head<3>()).squaredNorm() > r_sq) continue;
       m += c.shifted(q - origin);
     }
-    return spatiotemporal_score(m, cfg.min_neighbors);
+    return spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
   }
 
   float score_exact(const WindowScan& w, Eigen::Index i) const {
@@ -191,7 +192,7 @@ struct SpatiotemporalScorer::Impl {
         m.add(sample(other, static_cast<Eigen::Index>(j)) - q);
       });
     }
-    return spatiotemporal_score(m, cfg.min_neighbors);
+    return spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
   }
 
   // Grows per-point decisions to whole Euclidean clusters of non-ground points.
@@ -235,6 +236,7 @@ struct SpatiotemporalScorer::Impl {
         const auto k = static_cast<Eigen::Index>(i);
         d.score[i] = cfg.mode == "exact" ? score_exact(w, k) : score_fast(w, k);
         d.dynamic[i] = d.score[i] > cfg.threshold ? 1 : 0;  // NaN compares false
+        if (cfg.ground_static && w.ground[i]) d.dynamic[i] = 0;
       }
     });
     ScoredScan out;
