@@ -8,5 +8,6 @@ namespace cleanmap::app {
 void register_demo(CLI::App& app);
 void register_score(CLI::App& app);
 void register_odometry(CLI::App& app);
+void register_run(CLI::App& app);
 
 }  // namespace cleanmap::app

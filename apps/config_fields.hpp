@@ -83,7 +83,7 @@ void override_from_cli(const CLI::App& app, Config& config, Config& cli, const F
 }
 
 template <typename Config, typename Fields>
-nlohmann::json to_json(Config& config, const Fields& fields) {
+nlohmann::json to_json(const Config& config, const Fields& fields) {
   nlohmann::json j = nlohmann::json::object();
   std::apply([&](const auto&... f) { ((j[f.name] = f.get(config)), ...); }, fields);
   return j;

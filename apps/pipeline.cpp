@@ -1,0 +1,301 @@
+#include "apps/pipeline.hpp"
+
+#include <ceres/version.h>
+#include <tbb/version.h>
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <mutex>
+#include <tbb/parallel_pipeline.h>
+
+#include "apps/output_dir.hpp"
+#include "apps/progress.hpp"
+#include "dynamics/ground_segmentation.hpp"
+#include "dynamics/spatiotemporal_scorer.hpp"
+#include "evaluation/dynamic_metrics.hpp"
+#include "io/label_file.hpp"
+#include "io/score_file.hpp"
+#include "mapping/free_space_vote.hpp"
+#include "mapping/octomap_builder.hpp"
+#include "mapping/point_cloud_map.hpp"
+#include "odometry/deskew.hpp"
+#include "odometry/lidar_odometry.hpp"
+
+namespace cleanmap::app {
+namespace fs = std::filesystem;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+nlohmann::json metrics_json(const MovingConfusion& c) {
+  auto num = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+  return {{"iou", num(c.iou())}, {"precision", num(c.precision())}, {"recall", num(c.recall())},
+          {"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn}, {"tn", c.tn}};
+}
+
+nlohmann::json library_versions() {
+  return {{"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) +
+                        "." + std::to_string(EIGEN_MINOR_VERSION)},
+          {"octomap", CLEANMAP_OCTOMAP_VERSION},
+          {"pcl", CLEANMAP_PCL_VERSION},
+          {"ceres", CERES_VERSION_STRING},
+          {"tbb", TBB_VERSION_STRING},
+          {"cleanmap", "0.1.0"}};
+}
+
+}  // namespace
+
+void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohmann::json summary) {
+  validate(cfg.scorer);
+  if (opt.odometry) validate(cfg.odometry);
+  if (opt.mapping) validate(cfg.mapping.map);
+  const Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
+  if (!opt.odometry && !seq.has_poses()) {
+    fail(opt.input, "no poses: give --poses FILE or put poses.txt in the folder "
+                    "(`cleanmap odometry` estimates them, `cleanmap run` does it itself)");
+  }
+  make_dirs(opt.out / "scores");
+  make_dirs(opt.out / "labels");
+  summary["command"] = opt.command;
+  summary["input"] = opt.input.string();
+  summary["layout"] = seq.layout;
+  summary["times"] = seq.times_source;
+  summary["poses"] = opt.odometry ? "odometry" : seq.poses_source;
+  summary["input_settings"] = to_json(cfg.input, input_fields());
+  summary["scorer"] = to_json(cfg.scorer, scorer_fields());
+  if (opt.odometry) summary["odometry"] = to_json(cfg.odometry, odometry_fields());
+  if (opt.mapping) summary["mapping"] = to_json(cfg.mapping, mapping_fields());
+  summary["libraries"] = library_versions();
+  write_summary(opt.out, summary, false);
+
+  std::unique_ptr<LidarOdometry> odom;
+  if (opt.odometry) odom = std::make_unique<LidarOdometry>(cfg.odometry);
+  std::unique_ptr<OctoMapBuilder> octo;
+  if (opt.mapping) octo = std::make_unique<OctoMapBuilder>(cfg.mapping.map);
+  SpatiotemporalScorer scorer(cfg.scorer);
+  const double cloud_voxel = opt.mapping ? cfg.mapping.cloud_voxel : 0.05;
+  PointCloudMap dynamic_cloud(0.0), static_cloud(cloud_voxel), raw_cloud(cloud_voxel);
+  std::vector<StampedPose> poses;
+  MovingConfusion total;
+  nlohmann::json per_scan = nlohmann::json::array();
+  std::size_t points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0;
+  // Busy time of each stage (they overlap: the sum exceeds the wall time).
+  std::map<std::string, double> stage_seconds{{"read", 0}, {"odometry", 0}, {"scoring", 0},
+                                              {"mapping", 0}, {"write", 0}};
+  Progress progress(opt.command, seq.size());
+
+  std::mutex odom_mutex;  // the pipeline's first stage registers, its last feeds dynamics back
+  auto emit = [&](ScoredScan& r, const std::vector<std::uint32_t>& gt) {
+    Scan& scan = r.scan;
+    auto t = Clock::now();
+    if (opt.mapping && cfg.mapping.free_space) {
+      const double sensor_z = scan.pose->translation().z();
+      const auto ground = segment_ground(scan.points, sensor_z, cfg.scorer.ground_cell, cfg.scorer.ground_height);
+      const auto objects = free_space_objects(
+          scan.points, ground, [&](const Eigen::Matrix3Xf& sub) { return octo->hits_in_free_space(sub); },
+          cfg.mapping.free_space_fraction);
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        if (objects[i] && !r.dynamic[i]) {
+          r.dynamic[i] = 1;
+          ++free_space_added;
+        }
+      }
+    }
+    std::vector<std::uint8_t> keep_static(scan.size()), all(scan.size(), 1);
+    std::vector<std::uint32_t> labels(scan.size());
+    std::size_t n_dyn = 0, n_unscored = 0;
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      labels[i] = r.dynamic[i] ? kLabelMoving : std::isnan(r.score[i]) ? kLabelUnscored : kLabelStatic;
+      keep_static[i] = !r.dynamic[i];
+      n_dyn += r.dynamic[i];
+      n_unscored += std::isnan(r.score[i]) && !r.dynamic[i];
+    }
+    if (opt.mapping) {
+      Eigen::Matrix3Xf kept(3, static_cast<Eigen::Index>(scan.size() - n_dyn));
+      Eigen::Index k = 0;
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        if (keep_static[i]) kept.col(k++) = scan.points.col(static_cast<Eigen::Index>(i));
+      }
+      if (r.index % static_cast<std::size_t>(std::max(1, cfg.mapping.insert_every)) == 0) {
+        octo->insert(kept, scan.pose->translation());
+      }
+      if (cfg.mapping.write_raw_map) raw_cloud.add(scan, all, r.score, r.index);
+    }
+    stage_seconds["mapping"] += since(t);
+    t = Clock::now();
+    if (odom && cfg.odometry.exclude_dynamic && n_dyn > 0) {
+      std::lock_guard<std::mutex> lock(odom_mutex);
+      std::vector<Eigen::Vector3d> moving;
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        if (r.dynamic[i]) moving.push_back(scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
+      }
+      odom->remove_dynamic(moving);
+    }
+    write_scores(opt.out / "scores" / (scan.name + ".bin"), to_input_order(scan, r.score, std::nanf("")));
+    write_labels(opt.out / "labels" / (scan.name + ".label"), to_input_order(scan, labels, kLabelUnscored));
+    dynamic_cloud.add(scan, r.dynamic, r.score, r.index);
+    static_cloud.add(scan, keep_static, r.score, r.index);
+    stage_seconds["write"] += since(t);
+
+    nlohmann::json js{{"scan", scan.name},
+                      {"points", scan.size()},
+                      {"dynamic", n_dyn},
+                      {"unscored", n_unscored},
+                      {"window", {r.scans_before, r.scans_after}},
+                      {"full_window", r.scans_before == cfg.scorer.window_half &&
+                                          r.scans_after == cfg.scorer.window_half},
+                      {"voxel_size", r.voxel_size},
+                      {"downsampled", r.downsampled},
+                      {"dynamic_downsampled_before_completion", r.dynamic_before_completion},
+                      {"dynamic_downsampled", r.dynamic_downsampled},
+                      {"scoring_seconds", r.seconds}};
+    if (!gt.empty()) {
+      MovingConfusion c;
+      const Eigen::Vector3f origin = scan.pose->translation().cast<float>();
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        if (cfg.input.eval_max_range > 0 &&
+            (scan.points.col(static_cast<Eigen::Index>(i)) - origin).norm() > cfg.input.eval_max_range) {
+          continue;
+        }
+        count(c, r.dynamic[i], is_moving_label(gt[i]), !std::isnan(r.score[i]));
+      }
+      js["moving"] = metrics_json(c);
+      total += c;
+    }
+    points += scan.size();
+    dynamic_points += n_dyn;
+    unscored += n_unscored;
+    per_scan.push_back(js);
+  };
+
+  // Three stages run concurrently on consecutive scans (TBB pipeline, each stage in order):
+  // read + pose, scoring, mapping + writing. Each stage owns its state.
+  struct Item {
+    std::size_t index = 0;
+    Scan world;
+    std::vector<std::uint32_t> labels;
+    std::vector<std::pair<ScoredScan, std::vector<std::uint32_t>>> scored;
+  };
+  std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans
+  double read_s = 0, odometry_s = 0, scoring_s = 0;
+  std::size_t next = 0;
+  auto attach = [&](std::vector<ScoredScan> ready, Item& item) {
+    for (auto& r : ready) {
+      auto labels = std::move(waiting[r.index]);
+      waiting.erase(r.index);
+      item.scored.emplace_back(std::move(r), std::move(labels));
+    }
+  };
+  tbb::parallel_pipeline(
+      3,
+      tbb::make_filter<void, std::shared_ptr<Item>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<Item> {
+            if (next == seq.size()) {
+              fc.stop();
+              return nullptr;
+            }
+            auto item = std::make_shared<Item>();
+            item->index = next++;
+            auto t = Clock::now();
+            LoadedScan loaded = load_scan(seq, item->index);
+            dropped += loaded.dropped_non_finite;
+            item->labels = std::move(loaded.labels);
+            read_s += since(t);
+            t = Clock::now();
+            if (odom) {
+              std::lock_guard<std::mutex> lock(odom_mutex);
+              auto step = odom->register_scan(loaded.scan);
+              item->world = std::move(step.deskewed);
+              item->world.points = (step.pose.cast<float>() * item->world.points).eval();
+              item->world.pose = step.pose;
+              poses.push_back({loaded.scan.stamp + step.reference_offset, step.pose});
+            } else {
+              item->world = to_world(loaded.scan, sweep_motion(seq.poses, seq.times, item->index));
+              poses.push_back({loaded.scan.stamp, seq.poses[item->index]});
+            }
+            odometry_s += since(t);
+            progress.update(item->index + 1);
+            return item;
+          }) &
+          tbb::make_filter<std::shared_ptr<Item>, std::shared_ptr<Item>>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::shared_ptr<Item> item) {
+                const auto t = Clock::now();
+                waiting[item->index] = std::move(item->labels);
+                attach(scorer.push(std::move(item->world)), *item);
+                if (item->index + 1 == seq.size()) attach(scorer.finish(), *item);
+                scoring_s += since(t);
+                return item;
+              }) &
+          tbb::make_filter<std::shared_ptr<Item>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Item> item) {
+                for (auto& [r, labels] : item->scored) emit(r, labels);
+              }));
+  stage_seconds["read"] = read_s;
+  stage_seconds["odometry"] = odometry_s;
+  stage_seconds["scoring"] = scoring_s;
+  progress.finish();
+
+  auto t = Clock::now();
+  dynamic_cloud.write(opt.out / (opt.mapping ? "map_dynamic.pcd" : "dynamic.pcd"));
+  static_cloud.write(opt.out / (opt.mapping ? "map_static.pcd" : "static.pcd"));
+  if (opt.mapping) {
+    static_cloud.write(opt.out / "map_static.ply");
+    if (cfg.mapping.write_raw_map) raw_cloud.write(opt.out / "map_raw.pcd");
+    octo->write_binary(opt.out / "map.bt");
+    octo->write_full(opt.out / "map.ot");
+    if (cfg.mapping.occupancy_grid) {
+      octo->write_occupancy_grid(opt.out / "map_2d.pgm", cfg.mapping.grid_z_min, cfg.mapping.grid_z_max);
+    }
+    summary["octomap_leaves"] = octo->leaf_count();
+  }
+  if (opt.odometry) {
+    std::vector<Eigen::Isometry3d> lidar, kitti;
+    for (const auto& p : poses) {
+      lidar.push_back(p.pose);
+      kitti.push_back(seq.calib_tr ? Eigen::Isometry3d(*seq.calib_tr * p.pose * seq.calib_tr->inverse()) : p.pose);
+    }
+    write_kitti_poses(opt.out / "poses_kitti.txt", kitti);
+    write_tum_poses(opt.out / "poses_tum.txt", poses);
+    write_kitti_poses(opt.out / "poses.txt", lidar);
+  }
+  stage_seconds["write"] += since(t);
+
+  const double seconds = progress.elapsed_s();
+  summary["scans"] = seq.size();
+  summary["points"] = points;
+  summary["static_points"] = points - dynamic_points;
+  summary["dynamic_points"] = dynamic_points;
+  summary["unscored_points"] = unscored;
+  summary["free_space_added_points"] = free_space_added;
+  summary["non_finite_dropped"] = dropped;
+  summary["seconds"] = seconds;
+  summary["scans_per_second"] = seconds > 0 ? static_cast<double>(seq.size()) / seconds : 0.0;
+  summary["stage_seconds"] = stage_seconds;
+  summary["per_scan"] = per_scan;
+  if (seq.has_labels()) summary["moving"] = metrics_json(total);
+  write_summary(opt.out, summary, true);
+
+  std::printf("%s: %zu scans, %zu of %zu points dynamic (%.1f scans/s)\n", opt.command.c_str(),
+              seq.size(), dynamic_points, points, seq.size() / std::max(seconds, 1e-9));
+  if (seq.has_labels()) {
+    std::printf("  moving class vs labels: IoU %.3f  precision %.3f  recall %.3f\n", total.iou(),
+                total.precision(), total.recall());
+  }
+  std::printf("  outputs in %s:", opt.out.c_str());
+  if (opt.mapping) std::printf(" map.bt map.ot map_static.pcd map_static.ply map_dynamic.pcd");
+  else std::printf(" static.pcd dynamic.pcd");
+  if (opt.odometry) std::printf(" poses_kitti.txt poses_tum.txt");
+  std::printf(" scores/ labels/ summary.json\n");
+}
+
+}  // namespace cleanmap::app

@@ -1,0 +1,138 @@
+#include "mapping/octomap_builder.hpp"
+
+#include <octomap/OcTree.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "io/error.hpp"
+#include "io/voxel_downsample.hpp"
+
+namespace cleanmap {
+
+void validate(const MapConfig& c) {
+  auto bad = [](const std::string& what) { throw Error("mapping: " + what); };
+  if (!(c.resolution > 0)) bad("resolution must be positive");
+  if (!(c.max_range > 0)) bad("max_range must be positive");
+  if (!(c.prob_hit > 0.5 && c.prob_hit < 1)) bad("prob_hit must be in (0.5, 1)");
+  if (!(c.prob_miss > 0 && c.prob_miss < 0.5)) bad("prob_miss must be in (0, 0.5)");
+  if (!(c.clamp_min > 0 && c.clamp_min < c.clamp_max && c.clamp_max < 1)) {
+    bad("need 0 < clamp_min < clamp_max < 1");
+  }
+  if (c.insert_voxel < 0) bad("insert_voxel must be >= 0");
+}
+
+OctoMapBuilder::OctoMapBuilder(const MapConfig& config)
+    : config_(config), tree_(std::make_unique<octomap::OcTree>(config.resolution)) {
+  validate(config_);
+  tree_->setProbHit(config.prob_hit);
+  tree_->setProbMiss(config.prob_miss);
+  tree_->setClampingThresMin(config.clamp_min);
+  tree_->setClampingThresMax(config.clamp_max);
+}
+
+OctoMapBuilder::~OctoMapBuilder() = default;
+
+void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
+  // Occupied cells from every point (one update per cell); free space carved by rays to a
+  // sparser subsample only: rays are the cost, and neighbouring rays cross the same cells.
+  const octomap::point3d o(origin.x(), origin.y(), origin.z());
+  const double max_sq = config_.max_range * config_.max_range;
+  octomap::KeySet occupied;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if ((points.col(i).cast<double>() - origin).squaredNorm() > max_sq) continue;
+    octomap::OcTreeKey key;
+    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) occupied.insert(key);
+  }
+  const double voxel = config_.insert_voxel > 0 ? config_.insert_voxel : config_.resolution;
+  const auto keep = voxel_downsample(points, voxel);
+  octomap::Pointcloud rays;
+  rays.reserve(keep.size());
+  for (auto i : keep) rays.push_back(points(0, i), points(1, i), points(2, i));
+  octomap::KeySet free, ray_ends;
+  tree_->computeUpdate(rays, o, free, ray_ends, config_.max_range);
+  for (const auto& key : free) {
+    if (!occupied.count(key)) tree_->updateNode(key, false, true);
+  }
+  for (const auto& key : occupied) tree_->updateNode(key, true, true);
+}
+
+std::vector<std::uint8_t> OctoMapBuilder::hits_in_free_space(const Eigen::Matrix3Xf& points) const {
+  std::vector<std::uint8_t> hit(static_cast<std::size_t>(points.cols()), 0);
+  const double free_logodds = octomap::logodds(config_.free_probability);
+  const double res = config_.resolution;
+  // Read-only searches: safe in parallel.
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024), [&](const auto& r) {
+  for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+    const auto* node = tree_->search(points(0, i), points(1, i), points(2, i));
+    if (!node || node->getLogOdds() > free_logodds) continue;
+    // Rays grazing a static surface carve the cells it lies in; a real intruder sits in free
+    // space, with no occupied cell around it.
+    bool clear = true;
+    for (int dx = -1; dx <= 1 && clear; ++dx) {
+      for (int dy = -1; dy <= 1 && clear; ++dy) {
+        for (int dz = -1; dz <= 1 && clear; ++dz) {
+          const auto* n = tree_->search(points(0, i) + dx * res, points(1, i) + dy * res, points(2, i) + dz * res);
+          clear = !(n && tree_->isNodeOccupied(n));
+        }
+      }
+    }
+    hit[static_cast<std::size_t>(i)] = clear;
+  }
+  });
+  return hit;
+}
+
+void OctoMapBuilder::write_binary(const std::filesystem::path& file) {
+  tree_->updateInnerOccupancy();
+  if (!tree_->writeBinary(file.string())) fail(file, "cannot write OctoMap");
+}
+
+void OctoMapBuilder::write_full(const std::filesystem::path& file) {
+  tree_->updateInnerOccupancy();
+  if (!tree_->write(file.string())) fail(file, "cannot write OctoMap");
+}
+
+void OctoMapBuilder::write_occupancy_grid(const std::filesystem::path& pgm, double z_min,
+                                          double z_max) {
+  tree_->updateInnerOccupancy();
+  double x0, y0, z0, x1, y1, z1;
+  tree_->getMetricMin(x0, y0, z0);
+  tree_->getMetricMax(x1, y1, z1);
+  const double res = config_.resolution;
+  const int w = std::max(1, static_cast<int>(std::ceil((x1 - x0) / res)));
+  const int h = std::max(1, static_cast<int>(std::ceil((y1 - y0) / res)));
+  // map_server: 0 = occupied (black), 254 = free (white), 205 = unknown.
+  std::vector<std::uint8_t> grid(static_cast<std::size_t>(w) * h, 205);
+  for (auto it = tree_->begin_leafs(); it != tree_->end_leafs(); ++it) {
+    if (it.getZ() < z_min || it.getZ() > z_max) continue;
+    const double half = it.getSize() / 2;
+    const bool occupied = tree_->isNodeOccupied(*it);
+    for (double x = it.getX() - half + res / 2; x < it.getX() + half; x += res) {
+      for (double y = it.getY() - half + res / 2; y < it.getY() + half; y += res) {
+        const int cx = static_cast<int>((x - x0) / res), cy = static_cast<int>((y - y0) / res);
+        if (cx < 0 || cy < 0 || cx >= w || cy >= h) continue;
+        auto& cell = grid[static_cast<std::size_t>(h - 1 - cy) * w + cx];  // image rows go down
+        if (occupied) cell = 0;
+        else if (cell == 205) cell = 254;
+      }
+    }
+  }
+  {
+    std::ofstream out(pgm, std::ios::binary);
+    if (!out) fail(pgm, "cannot create file");
+    out << "P5\n" << w << ' ' << h << "\n255\n";
+    out.write(reinterpret_cast<const char*>(grid.data()), static_cast<std::streamsize>(grid.size()));
+  }
+  auto yaml = pgm;
+  yaml.replace_extension(".yaml");
+  std::ofstream meta(yaml);
+  if (!meta) fail(yaml, "cannot create file");
+  meta << "image: " << pgm.filename().string() << "\nresolution: " << res << "\norigin: [" << x0
+       << ", " << y0 << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+}
+
+std::size_t OctoMapBuilder::leaf_count() const { return tree_->getNumLeafNodes(); }
+
+}  // namespace cleanmap

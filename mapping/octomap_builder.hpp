@@ -1,0 +1,56 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+namespace octomap {
+class OcTree;
+}
+
+namespace cleanmap {
+
+struct MapConfig {
+  double resolution = 0.3;       // m, leaf size
+  double max_range = 30.0;       // m: longer rays are cut (and end without an occupied cell)
+  double prob_hit = 0.7;
+  double prob_miss = 0.4;
+  double clamp_min = 0.12;
+  double clamp_max = 0.97;
+  double insert_voxel = 0.6;     // m: subsample that casts the rays (every point marks its cell)
+  // Free-space second opinion: a point that falls in a cell seen free at least this confidently
+  // (occupancy probability at most this) is evidence of motion.
+  double free_probability = 0.2;
+};
+
+void validate(const MapConfig& config);
+
+// The clean map: an OctoMap of static points only, free space carved by casting rays from the
+// sensor origin of each scan.
+class OctoMapBuilder {
+ public:
+  explicit OctoMapBuilder(const MapConfig& config);
+  ~OctoMapBuilder();
+
+  // World-frame points of one scan and its sensor origin; insert only the static ones.
+  void insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin);
+
+  // Per point: 1 when its cell was confidently observed free so far (a hit in free space).
+  std::vector<std::uint8_t> hits_in_free_space(const Eigen::Matrix3Xf& points) const;
+
+  void write_binary(const std::filesystem::path& file);  // .bt: maximum-likelihood occupancy
+  void write_full(const std::filesystem::path& file);    // .ot: full probabilities
+  // 2D occupancy grid between two heights in the ROS map_server format (PGM + YAML).
+  void write_occupancy_grid(const std::filesystem::path& pgm, double z_min, double z_max);
+
+  std::size_t leaf_count() const;
+  const octomap::OcTree& tree() const { return *tree_; }
+
+ private:
+  MapConfig config_;
+  std::unique_ptr<octomap::OcTree> tree_;
+};
+
+}  // namespace cleanmap

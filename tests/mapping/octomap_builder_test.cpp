@@ -1,0 +1,87 @@
+#include "mapping/octomap_builder.hpp"
+
+#include <octomap/OcTree.h>
+
+#include "mapping/free_space_vote.hpp"
+#include "mapping/point_cloud_map.hpp"
+#include "io/cloud_file.hpp"
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+
+// A wall at x = 10 seen from the origin: a fan of points on it.
+Eigen::Matrix3Xf wall(double x) {
+  Eigen::Matrix3Xf p(3, 41 * 21);
+  int k = 0;
+  for (int i = -20; i <= 20; ++i) {
+    for (int j = -10; j <= 10; ++j) p.col(k++) = Eigen::Vector3f(static_cast<float>(x), 0.1f * i, 0.1f * j);
+  }
+  return p;
+}
+
+TEST(OctoMapBuilder, CarvesFreeSpaceAndMarksHitsAndWritesReadableMaps) {
+  test::TempDir dir;
+  OctoMapBuilder map(MapConfig{});
+  for (int k = 0; k < 6; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
+  const auto& tree = map.tree();
+  const auto* wall_cell = tree.search(10.0, 0.0, 0.0);
+  ASSERT_NE(wall_cell, nullptr);
+  EXPECT_TRUE(tree.isNodeOccupied(wall_cell));
+  const auto* between = tree.search(5.0, 0.0, 0.0);
+  ASSERT_NE(between, nullptr);
+  EXPECT_FALSE(tree.isNodeOccupied(between));
+  // Something standing at x = 5 now is in space seen free; the wall itself is not.
+  const auto intruder = map.hits_in_free_space(wall(5));
+  const auto wall_hits = map.hits_in_free_space(wall(10));
+  EXPECT_GT(std::count(intruder.begin(), intruder.end(), 1), 50);  // on the carved rays
+  EXPECT_EQ(std::count(wall_hits.begin(), wall_hits.end(), 1), 0);
+
+  map.write_binary(dir / "map.bt");
+  map.write_full(dir / "map.ot");
+  map.write_occupancy_grid(dir / "grid.pgm", -1.0, 1.0);
+  octomap::OcTree loaded(0.1);
+  ASSERT_TRUE(loaded.readBinary((dir / "map.bt").string()));
+  EXPECT_DOUBLE_EQ(loaded.getResolution(), MapConfig{}.resolution);
+  const auto* cell = loaded.search(10.0, 0.0, 0.0);
+  ASSERT_NE(cell, nullptr);
+  EXPECT_TRUE(loaded.isNodeOccupied(cell));
+  std::unique_ptr<octomap::AbstractOcTree> full(octomap::AbstractOcTree::read((dir / "map.ot").string()));
+  ASSERT_NE(full, nullptr);
+  EXPECT_EQ(full->getTreeType(), "OcTree");
+  EXPECT_TRUE(std::filesystem::exists(dir / "grid.yaml"));
+}
+
+TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
+  OctoMapBuilder map(MapConfig{});
+  for (int k = 0; k < 6; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
+  // A box-like object at x = 5 (in free space) and the wall (static) in one scan.
+  Eigen::Matrix3Xf scan(3, 2 * 41 * 21);
+  scan << wall(5), wall(10);
+  std::vector<std::uint8_t> ground(static_cast<std::size_t>(scan.cols()), 0);
+  const auto dyn = free_space_objects(scan, ground, [&](const Eigen::Matrix3Xf& s) { return map.hits_in_free_space(s); }, 0.3);
+  EXPECT_EQ(std::count(dyn.begin(), dyn.begin() + 41 * 21, 1), 41 * 21);
+  EXPECT_EQ(std::count(dyn.begin() + 41 * 21, dyn.end(), 1), 0);
+}
+
+TEST(PointCloudMap, KeepsRawPointsOnePerVoxelWithFields) {
+  test::TempDir dir;
+  Scan s;
+  s.points = wall(3);
+  s.intensity = Eigen::VectorXf::Constant(s.points.cols(), 7.0f);
+  PointCloudMap map(0.25);
+  std::vector<std::uint8_t> keep(static_cast<std::size_t>(s.points.cols()), 1);
+  std::vector<float> score(keep.size(), 0.5f);
+  map.add(s, keep, score, 4);
+  EXPECT_LT(map.size(), keep.size());
+  map.write(dir / "m.pcd");
+  const Scan r = read_cloud(dir / "m.pcd");
+  ASSERT_EQ(r.size(), map.size());
+  // Every kept point is one of the input points, not a voxel centre.
+  for (Eigen::Index i = 0; i < r.points.cols(); ++i) {
+    EXPECT_LT(((s.points.colwise() - r.points.col(i)).colwise().norm()).minCoeff(), 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace cleanmap
