@@ -1,0 +1,40 @@
+#include "evaluation/map_metrics.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "io/point_index.hpp"
+
+namespace cleanmap {
+
+MapScore score_map(const Eigen::Matrix3Xf& gt, const std::vector<std::uint8_t>& dynamic,
+                   const Eigen::Matrix3Xf& output, double distance) {
+  const PointIndex index(output);
+  const auto n = static_cast<std::size_t>(gt.cols());
+  std::vector<std::uint8_t> kept(n, 0);
+  const double d_sq = distance * distance;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const auto nn = index.nearest(gt.col(static_cast<Eigen::Index>(i)));
+      kept[i] = nn && nn->second <= d_sq;
+    }
+  });
+  MapScore s;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (dynamic[i]) {
+      ++s.dynamic_points;
+      s.dynamic_removed += !kept[i];
+    } else {
+      ++s.static_points;
+      s.static_kept += kept[i];
+    }
+  }
+  s.sa = s.static_points ? 100.0 * static_cast<double>(s.static_kept) / static_cast<double>(s.static_points) : NAN;
+  s.da = s.dynamic_points ? 100.0 * static_cast<double>(s.dynamic_removed) / static_cast<double>(s.dynamic_points) : NAN;
+  s.aa = std::sqrt(s.sa * s.da);
+  s.ha = (s.sa + s.da) > 0 ? 2.0 * s.sa * s.da / (s.sa + s.da) : NAN;
+  return s;
+}
+
+}  // namespace cleanmap
