@@ -9,5 +9,6 @@ void register_demo(CLI::App& app);
 void register_score(CLI::App& app);
 void register_odometry(CLI::App& app);
 void register_run(CLI::App& app);
+void register_eval(CLI::App& app);
 
 }  // namespace cleanmap::app

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   cleanmap::app::register_score(app);
   cleanmap::app::register_odometry(app);
   cleanmap::app::register_run(app);
+  cleanmap::app::register_eval(app);
   std::unique_ptr<tbb::global_control> limit;
   app.parse_complete_callback([&] {
     if (threads > 0) {

@@ -77,3 +77,32 @@ TEST(Cli, UnknownConfigKeyIsAnErrorNamingFileAndKey) {
 
 }  // namespace
 }  // namespace cleanmap
+
+namespace cleanmap {
+namespace {
+
+TEST(CliEval, TrajectoryOfAFileAgainstItselfIsZeroAndJsonIsWritten) {
+  test::TempDir dir;
+  std::ofstream poses(dir / "p.txt");
+  for (int i = 0; i < 200; ++i) poses << "1 0 0 " << i << " 0 1 0 0 0 0 1 0\n";
+  poses.close();
+  const auto r = run("eval trajectory --est " + (dir / "p.txt").string() + " --ref " +
+                     (dir / "p.txt").string() + " --json " + (dir / "t.json").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = nlohmann::json::parse(std::ifstream(dir / "t.json"));
+  EXPECT_EQ(j["paired"].get<int>(), 200);
+  EXPECT_NEAR(j["kitti"]["t_err_percent"].get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(j["ape"]["translation"]["rmse"].get<double>(), 0.0, 1e-9);
+}
+
+TEST(CliEval, MismatchedTrajectoriesAreAClearError) {
+  test::TempDir dir;
+  std::ofstream(dir / "a.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n";
+  std::ofstream(dir / "b.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
+  const auto r = run("eval trajectory --est " + (dir / "b.txt").string() + " --ref " + (dir / "a.txt").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("b.txt"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace cleanmap

@@ -1,0 +1,174 @@
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "apps/commands.hpp"
+#include "apps/settings.hpp"
+#include "evaluation/dynamic_metrics.hpp"
+#include "evaluation/map_metrics.hpp"
+#include "evaluation/trajectory_metrics.hpp"
+#include "io/cloud_file.hpp"
+#include "io/label_file.hpp"
+#include "io/sequence.hpp"
+
+namespace cleanmap::app {
+namespace fs = std::filesystem;
+namespace {
+
+nlohmann::json stats_json(const ErrorStats& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"count", s.count}};
+}
+
+nlohmann::json num(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
+
+void write_json(const fs::path& file, const nlohmann::json& j) {
+  if (file.empty()) return;
+  std::ofstream out(file);
+  if (!out) fail(file, "cannot create file");
+  out << j.dump(2) << '\n';
+}
+
+struct TrajectoryArgs {
+  fs::path est, ref, json;
+  std::string format = "auto", align = "se3";
+  int delta = 1;
+  double max_dt = 0.02;
+};
+
+void eval_trajectory(const TrajectoryArgs& a) {
+  const auto fmt = parse_pose_format(a.format);
+  const auto ref = read_poses(a.ref, fmt);
+  const auto est = read_poses(a.est, fmt);
+  std::vector<Eigen::Isometry3d> r, e;
+  const bool stamped = !std::isnan(ref.front().stamp) && !std::isnan(est.front().stamp);
+  if (stamped) {
+    associate(ref, est, a.max_dt, r, e);
+    if (r.size() < 2) fail(a.est, "fewer than two poses have a reference within " + std::to_string(a.max_dt) + " s");
+  } else {
+    if (ref.size() != est.size()) {
+      fail(a.est, "has " + std::to_string(est.size()) + " poses, the reference " +
+                      std::to_string(ref.size()) + " (KITTI files pair by line)");
+    }
+    for (const auto& p : ref) r.push_back(p.pose);
+    for (const auto& p : est) e.push_back(p.pose);
+  }
+  const Alignment alignment = a.align == "none" ? Alignment::kNone : a.align == "sim3" ? Alignment::kSim3 : Alignment::kSE3;
+  const auto kitti = kitti_errors(r, e);
+  const auto ape = absolute_pose_error(r, e, alignment);
+  const auto rpe = relative_pose_error(r, e, a.delta);
+  std::printf("poses paired: %zu%s\n", r.size(), stamped ? " (by time stamp)" : " (by line)");
+  std::printf("KITTI segment errors (devkit): %zu segments\n", kitti.segments.size());
+  std::printf("  length [m]  t_err [%%]  r_err [deg/100m]\n");
+  for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
+    std::printf("  %10.0f  %9.3f  %16.4f\n", kitti.lengths[k], kitti.t_err_by_length[k], kitti.r_err_by_length[k]);
+  }
+  std::printf("  overall     %9.3f  %16.4f\n", kitti.t_err_percent, kitti.r_err_deg_per_100m);
+  std::printf("APE (%s aligned) translation [m]: rmse %.4f mean %.4f median %.4f max %.4f\n",
+              a.align.c_str(), ape.translation.rmse, ape.translation.mean, ape.translation.median, ape.translation.max);
+  std::printf("RPE (delta %d frames): translation rmse %.4f m, rotation rmse %.4f deg\n", a.delta,
+              rpe.translation.rmse, rpe.rotation.rmse);
+  nlohmann::json lengths = nlohmann::json::array();
+  for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
+    lengths.push_back({{"length", kitti.lengths[k]}, {"t_err_percent", num(kitti.t_err_by_length[k])},
+                       {"r_err_deg_per_100m", num(kitti.r_err_by_length[k])}});
+  }
+  write_json(a.json, {{"paired", r.size()},
+                      {"kitti", {{"segments", kitti.segments.size()}, {"t_err_percent", num(kitti.t_err_percent)},
+                                 {"r_err_deg_per_100m", num(kitti.r_err_deg_per_100m)}, {"by_length", lengths}}},
+                      {"ape", {{"alignment", a.align}, {"scale", ape.scale}, {"translation", stats_json(ape.translation)}}},
+                      {"rpe", {{"delta_frames", a.delta}, {"translation", stats_json(rpe.translation)},
+                               {"rotation_deg", stats_json(rpe.rotation)}}}});
+}
+
+struct DynamicArgs {
+  fs::path pred, gt, json;
+  double max_range = 0.0;
+};
+
+void eval_dynamic(const DynamicArgs& a) {
+  const Sequence seq = open_sequence(a.gt);
+  if (!seq.has_labels()) fail(a.gt, "has no labels/ folder with ground-truth .label files");
+  const fs::path dir = fs::is_directory(a.pred / "labels") ? a.pred / "labels" : a.pred;
+  MovingConfusion total;
+  nlohmann::json scans = nlohmann::json::array();
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    if (seq.labels[i].empty()) continue;
+    const Scan scan = read_scan_file(seq.scans[i], seq.cloud);
+    const auto truth = read_labels(seq.labels[i], scan.size());
+    const auto pred_file = dir / (seq.scans[i].stem().string() + ".label");
+    if (!fs::exists(pred_file)) fail(pred_file, "missing: no prediction for a labelled scan");
+    const auto pred = read_labels(pred_file, scan.size());
+    MovingConfusion c;
+    for (std::size_t k = 0; k < truth.size(); ++k) {
+      const auto p = scan.points.col(static_cast<Eigen::Index>(k));
+      if (!p.allFinite()) continue;
+      if (a.max_range > 0 && p.norm() > a.max_range) continue;  // sensor frame: range from origin
+      count(c, semantic_class(pred[k]) == kLabelMoving, is_moving_label(truth[k]),
+            semantic_class(pred[k]) != kLabelUnscored);
+    }
+    total += c;
+    std::printf("  %s  IoU %.3f  precision %.3f  recall %.3f\n", seq.scans[i].stem().c_str(), c.iou(),
+                c.precision(), c.recall());
+    scans.push_back({{"scan", seq.scans[i].stem().string()}, {"iou", num(c.iou())},
+                     {"precision", num(c.precision())}, {"recall", num(c.recall())}});
+  }
+  std::printf("moving class: IoU %.3f  precision %.3f  recall %.3f  (tp %zu fp %zu fn %zu)\n",
+              total.iou(), total.precision(), total.recall(), total.tp, total.fp, total.fn);
+  write_json(a.json, {{"iou", num(total.iou())}, {"precision", num(total.precision())},
+                      {"recall", num(total.recall())}, {"max_range", a.max_range}, {"scans", scans}});
+}
+
+struct MapArgs {
+  fs::path gt, output, json;
+  double distance = 0.05;
+};
+
+void eval_map(const MapArgs& a) {
+  const Scan gt = read_cloud(a.gt);
+  if (!gt.has_intensity()) fail(a.gt, "needs an intensity field (0 = static, 1 = dynamic)");
+  const Scan out = read_cloud(a.output);
+  std::vector<std::uint8_t> dynamic(gt.size());
+  for (std::size_t i = 0; i < gt.size(); ++i) dynamic[i] = gt.intensity[static_cast<Eigen::Index>(i)] > 0.5f;
+  const auto s = score_map(gt.points, dynamic, out.points, a.distance);
+  std::printf("DynamicMap benchmark: SA %.3f  DA %.3f  AA %.3f  HA %.3f  (%zu static, %zu dynamic ground-truth points)\n",
+              s.sa, s.da, s.aa, s.ha, s.static_points, s.dynamic_points);
+  write_json(a.json, {{"SA", num(s.sa)}, {"DA", num(s.da)}, {"AA", num(s.aa)}, {"HA", num(s.ha)},
+                      {"static_points", s.static_points}, {"dynamic_points", s.dynamic_points},
+                      {"static_kept", s.static_kept}, {"dynamic_removed", s.dynamic_removed}});
+}
+
+}  // namespace
+
+void register_eval(CLI::App& app) {
+  auto* eval = app.add_subcommand("eval", "Trajectory, dynamic-point and map-quality metrics");
+  eval->require_subcommand(1);
+
+  auto t = std::make_shared<TrajectoryArgs>();
+  auto* tc = eval->add_subcommand("trajectory", "KITTI segment errors (devkit), APE and RPE");
+  tc->add_option("--est", t->est, "Estimated poses (KITTI or TUM)")->required();
+  tc->add_option("--ref", t->ref, "Reference poses (KITTI or TUM)")->required();
+  tc->add_option("--format", t->format, "auto, kitti or tum")->capture_default_str();
+  tc->add_option("--align", t->align, "APE alignment")->check(CLI::IsMember({"none", "se3", "sim3"}))->capture_default_str();
+  tc->add_option("--delta", t->delta, "RPE step in frames")->capture_default_str();
+  tc->add_option("--max-dt", t->max_dt, "TUM association tolerance, s")->capture_default_str();
+  tc->add_option("--json", t->json, "Also write the numbers to this JSON file");
+  tc->callback([t] { eval_trajectory(*t); });
+
+  auto d = std::make_shared<DynamicArgs>();
+  auto* dc = eval->add_subcommand("dynamic", "Moving-class IoU, precision, recall of predicted labels");
+  dc->add_option("--pred", d->pred, "Folder of predicted .label files (or a run/score output)")->required();
+  dc->add_option("--gt", d->gt, "Sequence folder with labels/")->required();
+  dc->add_option("--max-range", d->max_range, "Only points within this range, m (0 = all)")->capture_default_str();
+  dc->add_option("--json", d->json, "Also write the numbers to this JSON file");
+  dc->callback([d] { eval_dynamic(*d); });
+
+  auto m = std::make_shared<MapArgs>();
+  auto* mc = eval->add_subcommand("map", "DynamicMap benchmark scores (SA, DA, AA, HA) of a cleaned cloud");
+  mc->add_option("--gt", m->gt, "gt_cloud.pcd (intensity 0 static, 1 dynamic)")->required();
+  mc->add_option("--output", m->output, "The method's cloud of kept points")->required();
+  mc->add_option("--distance", m->distance, "Kept when an output point is this close, m")->capture_default_str();
+  mc->add_option("--json", m->json, "Also write the numbers to this JSON file");
+  mc->callback([m] { eval_map(*m); });
+}
+
+}  // namespace cleanmap::app
