@@ -4,6 +4,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/settings.hpp"
+#include "evaluation/box_labels.hpp"
 #include "evaluation/dynamic_metrics.hpp"
 #include "evaluation/map_metrics.hpp"
 #include "evaluation/trajectory_metrics.hpp"
@@ -81,20 +82,45 @@ void eval_trajectory(const TrajectoryArgs& a) {
 }
 
 struct DynamicArgs {
-  fs::path pred, gt, json;
+  fs::path pred, gt, json, poses;
   double max_range = 0.0;
+  double speed = 0.5;
+  double box_margin = 0.1;
 };
 
 void eval_dynamic(const DynamicArgs& a) {
-  const Sequence seq = open_sequence(a.gt);
-  if (!seq.has_labels()) fail(a.gt, "has no labels/ folder with ground-truth .label files");
+  SequenceOptions so;
+  so.poses_file = a.poses;
+  const Sequence seq = open_sequence(a.gt, so);
+  const bool from_boxes = !seq.has_labels() && fs::is_directory(a.gt / "boxes");
+  if (!seq.has_labels() && !from_boxes) {
+    fail(a.gt, "has neither labels/ (.label files) nor boxes/ (3D boxes) for ground truth");
+  }
+  std::vector<std::vector<LabelBox>> boxes;
+  std::vector<std::vector<bool>> moving;
+  if (from_boxes) {
+    if (!seq.has_poses()) fail(a.gt, "boxes need poses to tell moving objects: give --poses (e.g. a run's poses.txt)");
+    for (const auto& scan : seq.scans) {
+      const auto file = a.gt / "boxes" / (scan.stem().string() + ".json");
+      boxes.push_back(fs::exists(file) ? read_boxes(file) : std::vector<LabelBox>{});
+    }
+    moving = moving_boxes(boxes, seq.poses, seq.times, a.speed);
+    std::size_t n_moving = 0, n_boxes = 0;
+    for (const auto& m : moving) {
+      n_boxes += m.size();
+      for (bool b : m) n_moving += b;
+    }
+    std::printf("ground truth from boxes: %zu of %zu boxes moving faster than %.2f m/s\n", n_moving,
+                n_boxes, a.speed);
+  }
   const fs::path dir = fs::is_directory(a.pred / "labels") ? a.pred / "labels" : a.pred;
   MovingConfusion total;
   nlohmann::json scans = nlohmann::json::array();
   for (std::size_t i = 0; i < seq.size(); ++i) {
-    if (seq.labels[i].empty()) continue;
+    if (!from_boxes && seq.labels[i].empty()) continue;
     const Scan scan = read_scan_file(seq.scans[i], seq.cloud);
-    const auto truth = read_labels(seq.labels[i], scan.size());
+    const auto truth = from_boxes ? labels_from_boxes(scan, boxes[i], moving[i], a.box_margin)
+                                  : read_labels(seq.labels[i], scan.size());
     const auto pred_file = dir / (seq.scans[i].stem().string() + ".label");
     if (!fs::exists(pred_file)) fail(pred_file, "missing: no prediction for a labelled scan");
     const auto pred = read_labels(pred_file, scan.size());
@@ -157,7 +183,10 @@ void register_eval(CLI::App& app) {
   auto d = std::make_shared<DynamicArgs>();
   auto* dc = eval->add_subcommand("dynamic", "Moving-class IoU, precision, recall of predicted labels");
   dc->add_option("--pred", d->pred, "Folder of predicted .label files (or a run/score output)")->required();
-  dc->add_option("--gt", d->gt, "Sequence folder with labels/")->required();
+  dc->add_option("--gt", d->gt, "Sequence folder with labels/ (or boxes/ and --poses)")->required();
+  dc->add_option("--poses", d->poses, "Poses for box ground truth (e.g. a run's poses.txt)");
+  dc->add_option("--speed", d->speed, "Boxes faster than this (m/s, world frame) are moving")->capture_default_str();
+  dc->add_option("--box-margin", d->box_margin, "Boxes grown by this on every side, m")->capture_default_str();
   dc->add_option("--max-range", d->max_range, "Only points within this range, m (0 = all)")->capture_default_str();
   dc->add_option("--json", d->json, "Also write the numbers to this JSON file");
   dc->callback([d] { eval_dynamic(*d); });

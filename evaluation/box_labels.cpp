@@ -1,0 +1,76 @@
+#include "evaluation/box_labels.hpp"
+
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "io/error.hpp"
+#include "io/label_file.hpp"
+
+namespace cleanmap {
+
+std::vector<LabelBox> read_boxes(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) fail(file, "cannot open box file");
+  std::vector<LabelBox> boxes;
+  try {
+    const auto j = nlohmann::json::parse(in);
+    for (const auto& b : j) {
+      LabelBox box;
+      box.id = b.at("obj_id").is_string() ? b.at("obj_id").get<std::string>() : b.at("obj_id").dump();
+      box.type = b.value("obj_type", "");
+      const auto& psr = b.at("psr");
+      box.centre = {psr.at("position").at("x").get<double>(), psr.at("position").at("y").get<double>(),
+                    psr.at("position").at("z").get<double>()};
+      box.yaw = psr.at("rotation").at("z").get<double>();
+      box.size = {psr.at("scale").at("x").get<double>(), psr.at("scale").at("y").get<double>(),
+                  psr.at("scale").at("z").get<double>()};
+      boxes.push_back(box);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    fail(file, std::string("invalid box JSON: ") + e.what());
+  }
+  return boxes;
+}
+
+std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelBox>>& boxes,
+                                            const std::vector<Eigen::Isometry3d>& poses,
+                                            const std::vector<double>& times,
+                                            double speed_threshold) {
+  // World-frame centre of every (id, scan).
+  std::map<std::string, std::map<std::size_t, Eigen::Vector3d>> track;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (const auto& b : boxes[i]) track[b.id][i] = poses.at(i) * b.centre;
+  }
+  std::vector<std::vector<bool>> moving(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (const auto& b : boxes[i]) {
+      const auto& t = track[b.id];
+      auto it = t.find(i);
+      auto before = it == t.begin() ? it : std::prev(it);
+      auto after = std::next(it) == t.end() ? it : std::next(it);
+      const double dt = times.at(after->first) - times.at(before->first);
+      const double speed = dt > 0 ? (after->second - before->second).norm() / dt : 0.0;
+      moving[i].push_back(speed > speed_threshold);
+    }
+  }
+  return moving;
+}
+
+std::vector<std::uint32_t> labels_from_boxes(const Scan& scan, const std::vector<LabelBox>& boxes,
+                                             const std::vector<bool>& moving, double margin) {
+  std::vector<std::uint32_t> labels(scan.size(), kLabelStatic);
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    if (!moving[k]) continue;
+    const auto& b = boxes[k];
+    const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d half = b.size / 2 + Eigen::Vector3d::Constant(margin);
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const Eigen::Vector3d p = to_box * (scan.points.col(static_cast<Eigen::Index>(i)).cast<double>() - b.centre);
+      if ((p.cwiseAbs().array() <= half.array()).all()) labels[i] = kLabelMoving;
+    }
+  }
+  return labels;
+}
+
+}  // namespace cleanmap

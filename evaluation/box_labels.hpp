@@ -1,0 +1,38 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/scan.hpp"
+
+namespace cleanmap {
+
+// A hand-annotated 3D box in the sensor frame (SUSTechPOINTS-style JSON, as in
+// shared/data/pandar64_street/boxes): stable object id, type, centre, yaw, full size.
+struct LabelBox {
+  std::string id;
+  std::string type;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double yaw = 0.0;
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  // length, width, height
+};
+
+std::vector<LabelBox> read_boxes(const std::filesystem::path& file);
+
+// Per scan and box: is the object moving? Its centre is taken to the world frame with the
+// scan's pose; speed by central differences over the scans where the same id appears
+// (one-sided at its ends); moving when faster than `speed_threshold` m/s.
+std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelBox>>& boxes,
+                                            const std::vector<Eigen::Isometry3d>& poses,
+                                            const std::vector<double>& times,
+                                            double speed_threshold);
+
+// MOS labels for a sensor-frame scan: 251 for points inside a moving box (grown by `margin`
+// metres on every side), 9 otherwise.
+std::vector<std::uint32_t> labels_from_boxes(const Scan& scan, const std::vector<LabelBox>& boxes,
+                                             const std::vector<bool>& moving, double margin = 0.1);
+
+}  // namespace cleanmap
