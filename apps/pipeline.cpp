@@ -55,10 +55,14 @@ nlohmann::json library_versions() {
 
 void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohmann::json summary) {
   validate(cfg.scorer);
-  if (opt.odometry) validate(cfg.odometry);
+  if (opt.odometry) validate(cfg.odometry);  // (skipped below for world-frame logs)
   if (opt.mapping) validate(cfg.mapping.map);
   const Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
-  if (!opt.odometry && !seq.has_poses()) {
+  // DynamicMap sequences are registered already: no odometry, and the output keeps every raw
+  // input point that is not removed (never voxel centres or re-posed copies), as that
+  // benchmark scores kept points by distance.
+  const bool use_odometry = opt.odometry && !seq.world_frame;
+  if (!use_odometry && !seq.has_poses() && !seq.world_frame) {
     fail(opt.input, "no poses: give --poses FILE or put poses.txt in the folder "
                     "(`cleanmap odometry` estimates them, `cleanmap run` does it itself)");
   }
@@ -68,20 +72,20 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   summary["input"] = opt.input.string();
   summary["layout"] = seq.layout;
   summary["times"] = seq.times_source;
-  summary["poses"] = opt.odometry ? "odometry" : seq.poses_source;
+  summary["poses"] = use_odometry ? "odometry" : seq.world_frame ? "VIEWPOINT (world-frame scans)" : seq.poses_source;
   summary["input_settings"] = to_json(cfg.input, input_fields());
   summary["scorer"] = to_json(cfg.scorer, scorer_fields());
-  if (opt.odometry) summary["odometry"] = to_json(cfg.odometry, odometry_fields());
+  if (use_odometry) summary["odometry"] = to_json(cfg.odometry, odometry_fields());
   if (opt.mapping) summary["mapping"] = to_json(cfg.mapping, mapping_fields());
   summary["libraries"] = library_versions();
   write_summary(opt.out, summary, false);
 
   std::unique_ptr<LidarOdometry> odom;
-  if (opt.odometry) odom = std::make_unique<LidarOdometry>(cfg.odometry);
+  if (use_odometry) odom = std::make_unique<LidarOdometry>(cfg.odometry);
   std::unique_ptr<OctoMapBuilder> octo;
   if (opt.mapping) octo = std::make_unique<OctoMapBuilder>(cfg.mapping.map);
   SpatiotemporalScorer scorer(cfg.scorer);
-  const double cloud_voxel = opt.mapping ? cfg.mapping.cloud_voxel : 0.05;
+  const double cloud_voxel = seq.world_frame ? 0.0 : opt.mapping ? cfg.mapping.cloud_voxel : 0.05;
   PointCloudMap dynamic_cloud(0.0), static_cloud(cloud_voxel), raw_cloud(cloud_voxel);
   std::vector<StampedPose> poses;
   MovingConfusion total;
@@ -218,6 +222,9 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               item->world.points = (step.pose.cast<float>() * item->world.points).eval();
               item->world.pose = step.pose;
               poses.push_back({loaded.scan.stamp + step.reference_offset, step.pose});
+            } else if (seq.world_frame) {
+              poses.push_back({loaded.scan.stamp, *loaded.scan.pose});
+              item->world = std::move(loaded.scan);
             } else {
               item->world = to_world(loaded.scan, sweep_motion(seq.poses, seq.times, item->index));
               poses.push_back({loaded.scan.stamp, seq.poses[item->index]});
@@ -258,7 +265,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     }
     summary["octomap_leaves"] = octo->leaf_count();
   }
-  if (opt.odometry) {
+  if (use_odometry) {
     std::vector<Eigen::Isometry3d> lidar, kitti;
     for (const auto& p : poses) {
       lidar.push_back(p.pose);
@@ -294,7 +301,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   std::printf("  outputs in %s:", opt.out.c_str());
   if (opt.mapping) std::printf(" map.bt map.ot map_static.pcd map_static.ply map_dynamic.pcd");
   else std::printf(" static.pcd dynamic.pcd");
-  if (opt.odometry) std::printf(" poses_kitti.txt poses_tum.txt");
+  if (use_odometry) std::printf(" poses_kitti.txt poses_tum.txt");
   std::printf(" scores/ labels/ summary.json\n");
 }
 

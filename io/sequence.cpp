@@ -47,6 +47,10 @@ Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
   if (fs::is_directory(folder / "velodyne")) {
     seq.layout = "kitti";
     scan_dir = folder / "velodyne";
+  } else if (fs::is_directory(folder / "pcd")) {
+    seq.layout = "dynamicmap";
+    seq.world_frame = true;
+    scan_dir = folder / "pcd";
   } else if (fs::is_directory(folder / "scans")) {
     seq.layout = "scans-folder";
     scan_dir = folder / "scans";
@@ -123,6 +127,7 @@ LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   }
   scan.stamp = seq.times[index];
   if (seq.has_poses()) scan.pose = seq.poses[index];
+  if (seq.world_frame && !scan.pose) scan.pose = Eigen::Isometry3d::Identity();  // VIEWPOINT at origin
   out.dropped_non_finite = drop_non_finite(scan);
   if (out.dropped_non_finite > 0 && !out.labels.empty()) {
     std::vector<std::uint32_t> kept(scan.size());

@@ -25,11 +25,13 @@ struct SequenceOptions {
 };
 
 // A log given as one folder, found automatically: a KITTI sequence (velodyne/*.bin, labels/,
-// poses.txt, times.txt, calib.txt), a folder with a scans/ subfolder, or a plain folder of
-// .bin/.pcd/.ply scans, sorted by name. Scans are read one at a time (load_scan).
+// poses.txt, times.txt, calib.txt), a DynamicMap benchmark sequence (pcd/*.pcd: points already
+// in the world frame, the sensor pose in each file's VIEWPOINT), a folder with a scans/
+// subfolder, or a plain folder of .bin/.pcd/.ply scans, sorted by name. Scans are read one at a
+// time (load_scan).
 struct Sequence {
   std::filesystem::path root;
-  std::string layout;  // "kitti", "scans-folder" or "plain-folder"
+  std::string layout;  // "kitti", "dynamicmap", "scans-folder" or "plain-folder"
   std::vector<std::filesystem::path> scans;
   std::vector<std::filesystem::path> labels;  // per scan; empty path where none
   std::vector<double> times;                  // per scan, seconds
@@ -37,6 +39,7 @@ struct Sequence {
   std::vector<Eigen::Isometry3d> poses;       // sensor -> world per scan, or empty
   std::string poses_source;
   std::optional<Eigen::Isometry3d> calib_tr;  // KITTI velodyne -> camera 0
+  bool world_frame = false;  // scans are already registered (DynamicMap); pose = VIEWPOINT
   CloudReadOptions cloud;
 
   std::size_t size() const { return scans.size(); }

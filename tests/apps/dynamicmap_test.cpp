@@ -1,0 +1,81 @@
+// The DynamicMap benchmark's sequence layout (pcd/NNNNNN.pcd in the world frame, pose in the
+// VIEWPOINT, gt_cloud.pcd with intensity 0 static / 1 dynamic), end to end through
+// `cleanmap run` and `cleanmap eval map`.
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "io/cloud_file.hpp"
+#include "io/label_file.hpp"
+#include "io/synthetic_lidar.hpp"
+#include "odometry/deskew.hpp"
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+
+int run(const std::string& args, std::string* output = nullptr) {
+  const std::string cmd = std::string(CLEANMAP_BINARY) + " " + args + " 2>&1";
+  std::FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::fgets(buf, sizeof(buf), p)) out += buf;
+  if (output) *output = out;
+  return WEXITSTATUS(pclose(p));
+}
+
+TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "seq" / "pcd");
+  LidarModel lidar;
+  lidar.columns = 1024;
+  const auto world = make_street_world(4);
+  std::vector<SyntheticScan> raw;
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<double> times;
+  for (std::size_t i = 0; i < 16; ++i) {
+    raw.push_back(simulate_scan(world, lidar, i, 4));
+    poses.push_back(*raw.back().scan.pose);
+    times.push_back(raw.back().scan.stamp);
+  }
+  std::vector<Eigen::Vector3f> gt_points;
+  std::vector<float> gt_dynamic;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    Scan w = to_world(raw[i].scan, sweep_motion(poses, times, i));
+    w.time.resize(0);  // the benchmark's files carry x y z intensity only
+    CloudWriteOptions o;
+    o.viewpoint = poses[i];
+    write_cloud(dir / "seq" / "pcd" / (raw[i].scan.name + ".pcd"), w, {}, o);
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      gt_points.push_back(w.points.col(static_cast<Eigen::Index>(k)));
+      gt_dynamic.push_back(is_moving_label(raw[i].labels[k]) ? 1.0f : 0.0f);
+    }
+  }
+  Scan gt;
+  gt.points.resize(3, static_cast<Eigen::Index>(gt_points.size()));
+  for (std::size_t k = 0; k < gt_points.size(); ++k) gt.points.col(static_cast<Eigen::Index>(k)) = gt_points[k];
+  gt.intensity = Eigen::Map<Eigen::VectorXf>(gt_dynamic.data(), static_cast<Eigen::Index>(gt_dynamic.size()));
+  write_cloud(dir / "seq" / "gt_cloud.pcd", gt);
+
+  std::string out;
+  ASSERT_EQ(run("run --input " + (dir / "seq").string() + " --out " + (dir / "out").string() +
+                    " --voxel-size 0.1", &out), 0) << out;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  EXPECT_EQ(summary["layout"].get<std::string>(), "dynamicmap");
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "poses_kitti.txt"));  // no odometry ran
+  // Every input point is either in the static output or in the removed one: raw points only.
+  const Scan kept = read_cloud(dir / "out" / "map_static.pcd");
+  const Scan removed = read_cloud(dir / "out" / "map_dynamic.pcd");
+  EXPECT_EQ(kept.size() + removed.size(), gt.size());
+
+  ASSERT_EQ(run("eval map --gt " + (dir / "seq" / "gt_cloud.pcd").string() + " --output " +
+                    (dir / "out" / "map_static.pcd").string() + " --json " + (dir / "m.json").string(), &out), 0) << out;
+  std::printf("%s", out.c_str());  // the scores, for the log
+  const auto m = nlohmann::json::parse(std::ifstream(dir / "m.json"));
+  // Measured: SA 99.86, DA 93.4, AA 96.6, HA 96.5 (16 scans, all ranges).
+  EXPECT_GT(m["SA"].get<double>(), 98.0) << out;
+  EXPECT_GT(m["DA"].get<double>(), 70.0) << out;
+}
+
+}  // namespace
+}  // namespace cleanmap
