@@ -10,5 +10,6 @@ void register_score(CLI::App& app);
 void register_odometry(CLI::App& app);
 void register_run(CLI::App& app);
 void register_eval(CLI::App& app);
+void register_compare(CLI::App& app);
 
 }  // namespace cleanmap::app

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   cleanmap::app::register_odometry(app);
   cleanmap::app::register_run(app);
   cleanmap::app::register_eval(app);
+  cleanmap::app::register_compare(app);
   std::unique_ptr<tbb::global_control> limit;
   app.parse_complete_callback([&] {
     if (threads > 0) {

@@ -106,3 +106,23 @@ TEST(CliEval, MismatchedTrajectoriesAreAClearError) {
 
 }  // namespace
 }  // namespace cleanmap
+
+namespace cleanmap {
+namespace {
+
+TEST(CliCompare, RunsOdometryWithAndWithoutRemovalAndReportsBoth) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --generate-only --scans 12 --beams 32 --columns 512 --out " + dir.path.string()).code, 0);
+  const auto r = run("compare --input " + (dir / "sequence").string() + " --out " + (dir / "cmp").string() +
+                     " --voxel-size 0.2 --window-half 3");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("removal on"), std::string::npos);
+  const auto s = nlohmann::json::parse(std::ifstream(dir / "cmp" / "summary.json"));
+  EXPECT_TRUE(s["complete"].get<bool>());
+  EXPECT_LT(s["removal_off"]["ape_rmse_m"].get<double>(), 0.2);
+  EXPECT_LT(s["removal_on"]["ape_rmse_m"].get<double>(), 0.2);
+  EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "with" / "poses_kitti.txt"));
+}
+
+}  // namespace
+}  // namespace cleanmap
