@@ -60,12 +60,9 @@ void register_compare(CLI::App& app) {
     for (bool removal : {false, true}) {
       cfg.odometry.exclude_dynamic = removal;
       const fs::path out = args->out / (removal ? "with" : "without");
-      try {
+      run_guarded(out, "compare", [&] {
         run_pipeline({args->input, out, true, false, removal ? "compare (removal on)" : "compare (removal off)"}, cfg, {});
-      } catch (const Error& e) {
-        if (fs::is_directory(out)) write_summary(out, {{"command", "compare"}}, false, e.what());
-        throw;
-      }
+      });
       results.push_back(evaluate(out / "poses_kitti.txt", ref));
     }
     const auto& a = results[0];

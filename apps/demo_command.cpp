@@ -120,14 +120,7 @@ void register_demo(CLI::App& app) {
   cmd->add_option("--config", args->config, "YAML preset (section 'synthetic')");
   cmd->add_flag("--generate-only", args->generate_only, "Only write the synthetic sequence");
   add_options(*cmd, args->cli, synthetic_fields());
-  cmd->callback([cmd, args] {
-    try {
-      run_demo(*cmd, *args);
-    } catch (const Error& e) {
-      if (fs::is_directory(args->out)) write_summary(args->out, {{"command", "demo"}}, false, e.what());
-      throw;
-    }
-  });
+  cmd->callback([cmd, args] { run_guarded(args->out, "demo", [&] { run_demo(*cmd, *args); }); });
 }
 
 }  // namespace cleanmap::app

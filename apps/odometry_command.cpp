@@ -64,21 +64,8 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   }
   progress.finish();
 
-  std::vector<Eigen::Isometry3d> lidar_poses, kitti_poses;
-  for (const auto& p : stamped) {
-    lidar_poses.push_back(p.pose);
-    // KITTI ground truth is in the camera-0 frame: P_cam = Tr P_lidar Tr^-1.
-    kitti_poses.push_back(seq.calib_tr ? Eigen::Isometry3d(*seq.calib_tr * p.pose * seq.calib_tr->inverse()) : p.pose);
-  }
-  write_kitti_poses(args.out / "poses_kitti.txt", kitti_poses);
-  write_tum_poses(args.out / "poses_tum.txt", stamped);
   // With --write-scans, OUT is itself a sequence folder that `cleanmap score --input OUT` reads.
-  write_kitti_poses(args.out / "poses.txt", lidar_poses);
-  {
-    std::ofstream times(args.out / "times.txt");
-    times << std::fixed << std::setprecision(6);
-    for (const auto& p : stamped) times << p.stamp << '\n';
-  }
+  write_pose_files(args.out, stamped, seq.calib_tr);
   std::vector<double> sorted = seconds;
   std::sort(sorted.begin(), sorted.end());
   summary["scans"] = seq.size();
@@ -108,14 +95,7 @@ void register_odometry(CLI::App& app) {
       ->capture_default_str();
   add_options(*cmd, args->input_cli, input_fields());
   add_options(*cmd, args->odometry_cli, odometry_fields());
-  cmd->callback([cmd, args] {
-    try {
-      run_odometry(*cmd, *args);
-    } catch (const Error& e) {
-      if (fs::is_directory(args->out)) write_summary(args->out, {{"command", "odometry"}}, false, e.what());
-      throw;
-    }
-  });
+  cmd->callback([cmd, args] { run_guarded(args->out, "odometry", [&] { run_odometry(*cmd, *args); }); });
 }
 
 }  // namespace cleanmap::app

@@ -1,6 +1,7 @@
 #include "apps/output_dir.hpp"
 
 #include <fstream>
+#include <iomanip>
 
 #include "io/error.hpp"
 
@@ -24,6 +25,33 @@ void write_summary(const std::filesystem::path& out, nlohmann::json summary, boo
     if (!f) fail(tmp, "write failed");
   }
   std::filesystem::rename(tmp, out / "summary.json");
+}
+
+void run_guarded(const std::filesystem::path& out, const std::string& command,
+                 const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const Error& e) {
+    if (std::filesystem::is_directory(out)) write_summary(out, {{"command", command}}, false, e.what());
+    throw;
+  }
+}
+
+void write_pose_files(const std::filesystem::path& out, const std::vector<StampedPose>& poses,
+                      const std::optional<Eigen::Isometry3d>& kitti_tr) {
+  std::vector<Eigen::Isometry3d> lidar, kitti;
+  for (const auto& p : poses) {
+    lidar.push_back(p.pose);
+    // KITTI ground truth is in the camera-0 frame: P_cam = Tr P_lidar Tr^-1.
+    kitti.push_back(kitti_tr ? Eigen::Isometry3d(*kitti_tr * p.pose * kitti_tr->inverse()) : p.pose);
+  }
+  write_kitti_poses(out / "poses_kitti.txt", kitti);
+  write_tum_poses(out / "poses_tum.txt", poses);
+  write_kitti_poses(out / "poses.txt", lidar);
+  std::ofstream times(out / "times.txt");
+  if (!times) fail(out / "times.txt", "cannot create file");
+  times << std::fixed << std::setprecision(6);
+  for (const auto& p : poses) times << p.stamp << '\n';
 }
 
 }  // namespace cleanmap::app

@@ -1,8 +1,14 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
+
+#include "io/pose_file.hpp"
 
 namespace cleanmap::app {
 
@@ -13,5 +19,16 @@ void make_dirs(const std::filesystem::path& dir);
 // summary, and "complete": true appears only once everything else is written.
 void write_summary(const std::filesystem::path& out, nlohmann::json summary, bool complete,
                    const std::string& error = "");
+
+// Runs a command's body; when it stops on bad input, marks OUT/summary.json incomplete with
+// the message (if OUT exists) before the error reaches main.
+void run_guarded(const std::filesystem::path& out, const std::string& command,
+                 const std::function<void()>& body);
+
+// OUT/poses_kitti.txt (camera-0 frame when a KITTI Tr is known, so it compares with the
+// official ground truth), OUT/poses_tum.txt (real stamps) and OUT/poses.txt + OUT/times.txt
+// (lidar frame: OUT then reads as a sequence).
+void write_pose_files(const std::filesystem::path& out, const std::vector<StampedPose>& poses,
+                      const std::optional<Eigen::Isometry3d>& kitti_tr);
 
 }  // namespace cleanmap::app

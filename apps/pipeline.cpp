@@ -265,16 +265,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     }
     summary["octomap_leaves"] = octo->leaf_count();
   }
-  if (use_odometry) {
-    std::vector<Eigen::Isometry3d> lidar, kitti;
-    for (const auto& p : poses) {
-      lidar.push_back(p.pose);
-      kitti.push_back(seq.calib_tr ? Eigen::Isometry3d(*seq.calib_tr * p.pose * seq.calib_tr->inverse()) : p.pose);
-    }
-    write_kitti_poses(opt.out / "poses_kitti.txt", kitti);
-    write_tum_poses(opt.out / "poses_tum.txt", poses);
-    write_kitti_poses(opt.out / "poses.txt", lidar);
-  }
+  if (use_odometry) write_pose_files(opt.out, poses, seq.calib_tr);
   stage_seconds["write"] += since(t);
 
   const double seconds = progress.elapsed_s();

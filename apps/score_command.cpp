@@ -20,16 +20,13 @@ void register_score(CLI::App& app) {
   add_options(*cmd, args->input_cli, input_fields());
   add_options(*cmd, args->scorer_cli, scorer_fields());
   cmd->callback([cmd, args] {
-    try {
+    run_guarded(args->out, "score", [&] {
       const auto preset = load_optional_preset(args->config);
       PipelineConfig cfg;
       cfg.input = resolve(*cmd, preset, args->config, "input", InputSettings{}, args->input_cli, input_fields());
       cfg.scorer = resolve(*cmd, preset, args->config, "scorer", ScorerConfig{}, args->scorer_cli, scorer_fields());
       run_pipeline({args->input, args->out, false, false, "score"}, cfg, {});
-    } catch (const Error& e) {
-      if (fs::is_directory(args->out)) write_summary(args->out, {{"command", "score"}}, false, e.what());
-      throw;
-    }
+    });
   });
 }
 
@@ -55,7 +52,7 @@ void register_run(CLI::App& app) {
   add_options(*cmd, args->scorer_cli, scorer_fields());
   add_options(*cmd, args->mapping_cli, mapping_fields());
   cmd->callback([cmd, args] {
-    try {
+    run_guarded(args->out, "run", [&] {
       const auto preset = load_optional_preset(args->config);
       PipelineConfig cfg;
       cfg.input = resolve(*cmd, preset, args->config, "input", InputSettings{}, args->input_cli, input_fields());
@@ -65,10 +62,7 @@ void register_run(CLI::App& app) {
       // An explicit --poses file means "use these poses" too.
       const bool given = args->use_given_poses || !cfg.input.poses.empty();
       run_pipeline({args->input, args->out, !given, true, "run"}, cfg, {});
-    } catch (const Error& e) {
-      if (fs::is_directory(args->out)) write_summary(args->out, {{"command", "run"}}, false, e.what());
-      throw;
-    }
+    });
   });
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -41,6 +43,17 @@ inline void expect_error(const std::function<void()>& fn,
       EXPECT_NE(msg.find(f), std::string::npos) << "message '" << msg << "' lacks '" << f << "'";
     }
   }
+}
+
+// Runs the cleanmap binary with `args`; returns its exit code, stdout and stderr in `output`.
+inline int run_cleanmap(const std::string& args, std::string* output = nullptr) {
+  const std::string cmd = std::string(CLEANMAP_BINARY) + " " + args + " 2>&1";
+  std::FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::fgets(buf, sizeof(buf), p)) out += buf;
+  if (output) *output = out;
+  return WEXITSTATUS(pclose(p));
 }
 
 }  // namespace cleanmap::test

@@ -14,13 +14,9 @@ struct Result {
 };
 
 Result run(const std::string& args) {
-  const std::string cmd = std::string(CLEANMAP_BINARY) + " " + args + " 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::fgets(buf, sizeof(buf), p)) out += buf;
-  const int status = pclose(p);
-  return {WEXITSTATUS(status), out};
+  Result r;
+  r.code = test::run_cleanmap(args, &r.output);
+  return r;
 }
 
 TEST(Cli, UnknownOptionFails) {

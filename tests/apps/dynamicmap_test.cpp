@@ -14,15 +14,7 @@
 namespace cleanmap {
 namespace {
 
-int run(const std::string& args, std::string* output = nullptr) {
-  const std::string cmd = std::string(CLEANMAP_BINARY) + " " + args + " 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::fgets(buf, sizeof(buf), p)) out += buf;
-  if (output) *output = out;
-  return WEXITSTATUS(pclose(p));
-}
+using test::run_cleanmap;
 
 TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
   test::TempDir dir;
@@ -58,7 +50,7 @@ TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
   write_cloud(dir / "seq" / "gt_cloud.pcd", gt);
 
   std::string out;
-  ASSERT_EQ(run("run --input " + (dir / "seq").string() + " --out " + (dir / "out").string() +
+  ASSERT_EQ(run_cleanmap("run --input " + (dir / "seq").string() + " --out " + (dir / "out").string() +
                     " --voxel-size 0.1", &out), 0) << out;
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
   EXPECT_EQ(summary["layout"].get<std::string>(), "dynamicmap");
@@ -68,7 +60,7 @@ TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
   const Scan removed = read_cloud(dir / "out" / "map_dynamic.pcd");
   EXPECT_EQ(kept.size() + removed.size(), gt.size());
 
-  ASSERT_EQ(run("eval map --gt " + (dir / "seq" / "gt_cloud.pcd").string() + " --output " +
+  ASSERT_EQ(run_cleanmap("eval map --gt " + (dir / "seq" / "gt_cloud.pcd").string() + " --output " +
                     (dir / "out" / "map_static.pcd").string() + " --json " + (dir / "m.json").string(), &out), 0) << out;
   std::printf("%s", out.c_str());  // the scores, for the log
   const auto m = nlohmann::json::parse(std::ifstream(dir / "m.json"));

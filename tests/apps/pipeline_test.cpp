@@ -12,21 +12,13 @@
 namespace cleanmap {
 namespace {
 
-int run(const std::string& args, std::string* output = nullptr) {
-  const std::string cmd = std::string(CLEANMAP_BINARY) + " " + args + " 2>&1";
-  std::FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::fgets(buf, sizeof(buf), p)) out += buf;
-  if (output) *output = out;
-  return WEXITSTATUS(pclose(p));
-}
+using test::run_cleanmap;
 
 TEST(Pipeline, SyntheticStreetCleanMapKeepsStaticStructureAndDropsMovers) {
   test::TempDir dir;
-  ASSERT_EQ(run("demo --generate-only --scans 20 --out " + dir.path.string()), 0);
+  ASSERT_EQ(run_cleanmap("demo --generate-only --scans 20 --out " + dir.path.string()), 0);
   std::string out;
-  ASSERT_EQ(run("run --input " + (dir / "sequence").string() + " --out " + (dir / "run").string() +
+  ASSERT_EQ(run_cleanmap("run --input " + (dir / "sequence").string() + " --out " + (dir / "run").string() +
                     " --voxel-size 0.1", &out), 0) << out;
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "run" / "summary.json"));
   ASSERT_TRUE(summary["complete"].get<bool>());
@@ -72,7 +64,7 @@ TEST(Pipeline, TruncatedScanStopsWithOneLineAndAnIncompleteSummary) {
   write_kitti_bin(dir / "log" / "000001.bin", s);
   std::filesystem::resize_file(dir / "log" / "000001.bin", 16 * 1000 + 7);
   std::string out;
-  EXPECT_EQ(run("run --input " + (dir / "log").string() + " --out " + (dir / "out").string(), &out), 1);
+  EXPECT_EQ(run_cleanmap("run --input " + (dir / "log").string() + " --out " + (dir / "out").string(), &out), 1);
   EXPECT_NE(out.find("000001.bin"), std::string::npos) << out;
   EXPECT_NE(out.find("multiple of 16"), std::string::npos) << out;
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
@@ -87,7 +79,7 @@ TEST(Pipeline, ScoreWithoutPosesSaysHowToGetThem) {
   std::filesystem::create_directories(dir / "log");
   write_kitti_bin(dir / "log" / "000000.bin", s);
   std::string out;
-  EXPECT_EQ(run("score --input " + (dir / "log").string() + " --out " + (dir / "out").string(), &out), 1);
+  EXPECT_EQ(run_cleanmap("score --input " + (dir / "log").string() + " --out " + (dir / "out").string(), &out), 1);
   EXPECT_NE(out.find("no poses"), std::string::npos) << out;
 }
 
