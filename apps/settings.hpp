@@ -21,6 +21,9 @@ struct InputSettings {
   std::string time_unit = "auto"; // of per-point time fields in PCD/PLY
   bool kitti_camera_poses = true; // KITTI poses + calib.txt: convert camera -> lidar frame
   double eval_max_range = 0.0;    // metres from the sensor for label metrics; 0 = all
+  std::string bag_topic;          // ROS bag input: PointCloud2 topic (empty = the only one)
+  std::string bag_pose_topic;     // ROS bag input: Odometry / TransformStamped / tf topic
+  std::string bag_child_frame;    // ROS bag input with tf: the sensor frame
 };
 
 inline auto input_fields() {
@@ -33,7 +36,10 @@ inline auto input_fields() {
       CLEANMAP_FIELD("kitti_camera_poses", kitti_camera_poses,
                      "KITTI poses are camera-0 poses (converted with Tr from calib.txt)"),
       CLEANMAP_FIELD("eval_max_range", eval_max_range,
-                     "Only points within this range (m) count in label metrics; 0 = all"));
+                     "Only points within this range (m) count in label metrics; 0 = all"),
+      CLEANMAP_FIELD("bag_topic", bag_topic, "ROS bag: PointCloud2 topic (default: the only one)"),
+      CLEANMAP_FIELD("bag_pose_topic", bag_pose_topic, "ROS bag: nav_msgs/Odometry, TransformStamped or tf topic"),
+      CLEANMAP_FIELD("bag_child_frame", bag_child_frame, "ROS bag with tf: the sensor's frame id"));
 }
 
 inline SequenceOptions sequence_options(const InputSettings& s) {
@@ -44,6 +50,9 @@ inline SequenceOptions sequence_options(const InputSettings& s) {
   o.rate_hz = s.rate_hz;
   o.kitti_poses_in_camera_frame = s.kitti_camera_poses;
   o.cloud.time_unit = parse_time_unit(s.time_unit);
+  o.bag_topic = s.bag_topic;
+  o.bag_pose_topic = s.bag_pose_topic;
+  o.bag_child_frame = s.bag_child_frame;
   return o;
 }
 

@@ -4,6 +4,11 @@
 
 namespace cleanmap {
 
+std::string scan_name(std::size_t index) {
+  std::string digits = std::to_string(index);
+  return digits.size() >= 6 ? digits : std::string(6 - digits.size(), '0') + digits;
+}
+
 Scan select_points(const Scan& scan, const std::vector<std::int32_t>& indices) {
   Scan out;
   out.stamp = scan.stamp;

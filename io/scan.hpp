@@ -30,6 +30,9 @@ struct Scan {
   bool has_intensity() const { return intensity.size() == points.cols() && points.cols() > 0; }
 };
 
+// "000123": the six-digit zero-padded name of scan `index`, as KITTI numbers its files.
+std::string scan_name(std::size_t index);
+
 // Keeps the listed points (in the given order) in every per-point field, composing input_index.
 Scan select_points(const Scan& scan, const std::vector<std::int32_t>& indices);
 

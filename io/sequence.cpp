@@ -5,6 +5,9 @@
 #include "io/error.hpp"
 #include "io/kitti_bin.hpp"
 #include "io/label_file.hpp"
+#ifdef CLEANMAP_WITH_ROSBAG
+#include "io/rosbag_source.hpp"
+#endif
 
 namespace cleanmap {
 namespace fs = std::filesystem;
@@ -37,7 +40,47 @@ bool Sequence::has_labels() const {
   return std::any_of(labels.begin(), labels.end(), [](const fs::path& p) { return !p.empty(); });
 }
 
+namespace {
+
+// Times and poses of a bag: its message stamps, and a pose topic or a pose file.
+Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
+#ifdef CLEANMAP_WITH_ROSBAG
+  Sequence seq;
+  seq.root = file;
+  seq.layout = "rosbag";
+  seq.cloud = options.cloud;
+  BagOptions bo{options.bag_topic, options.bag_pose_topic, options.bag_child_frame};
+  auto bag = std::make_shared<BagSource>(file, bo);
+  for (std::size_t i = 0; i < bag->size(); ++i) {
+    seq.scans.push_back(fs::path(scan_name(i)));
+  }
+  seq.labels.resize(bag->size());
+  seq.times = bag->stamps();
+  seq.times_source = "bag " + bag->topic() + " header stamps";
+  if (!options.poses_file.empty()) {
+    const auto stamped = read_poses(options.poses_file, options.pose_format);
+    check_count(options.poses_file, stamped.size(), bag->size(), "poses");
+    for (const auto& p : stamped) seq.poses.push_back(p.pose);
+    seq.poses_source = options.poses_file.string();
+  } else if (!bag->poses().empty()) {
+    seq.poses = bag->poses();
+    seq.poses_source = "bag " + options.bag_pose_topic;
+  }
+  for (std::size_t i = 1; i < seq.times.size(); ++i) {
+    if (!(seq.times[i] > seq.times[i - 1])) fail(file, "message stamps must increase (message " + std::to_string(i) + ")");
+  }
+  seq.bag = std::move(bag);
+  return seq;
+#else
+  (void)options;
+  fail(file, "this build of cleanmap has no ROS bag support (configure with CLEANMAP_WITH_ROSBAG=ON)");
+#endif
+}
+
+}  // namespace
+
 Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
+  if (folder.extension() == ".bag") return open_bag(folder, options);
   if (!fs::exists(folder)) fail(folder, "no such folder");
   if (!fs::is_directory(folder)) fail(folder, "is not a folder");
   Sequence seq;
@@ -116,7 +159,11 @@ Scan read_scan_file(const fs::path& file, const CloudReadOptions& options) {
 
 LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   LoadedScan out;
+#ifdef CLEANMAP_WITH_ROSBAG
+  out.scan = seq.bag ? seq.bag->read(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
+#else
   out.scan = read_scan_file(seq.scans.at(index), seq.cloud);
+#endif
   Scan& scan = out.scan;
   if (!seq.labels[index].empty()) {
     out.labels = read_labels(seq.labels[index], scan.size());

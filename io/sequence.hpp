@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,9 +23,15 @@ struct SequenceOptions {
   // into lidar poses (Tr^-1 P Tr) unless this is false.
   bool kitti_poses_in_camera_frame = true;
   CloudReadOptions cloud;
+  // ROS 1 bags (when built with bag support): the input is a .bag file.
+  std::string bag_topic;        // PointCloud2 topic; empty = the only one
+  std::string bag_pose_topic;   // optional poses (Odometry, TransformStamped or tf)
+  std::string bag_child_frame;  // with tf: the sensor frame
 };
 
-// A log given as one folder, found automatically: a KITTI sequence (velodyne/*.bin, labels/,
+class BagSource;
+
+// A log given as one folder (or a ROS 1 .bag file), found automatically: a KITTI sequence (velodyne/*.bin, labels/,
 // poses.txt, times.txt, calib.txt), a DynamicMap benchmark sequence (pcd/*.pcd: points already
 // in the world frame, the sensor pose in each file's VIEWPOINT), a folder with a scans/
 // subfolder, or a plain folder of .bin/.pcd/.ply scans, sorted by name. Scans are read one at a
@@ -41,6 +48,7 @@ struct Sequence {
   std::optional<Eigen::Isometry3d> calib_tr;  // KITTI velodyne -> camera 0
   bool world_frame = false;  // scans are already registered (DynamicMap); pose = VIEWPOINT
   CloudReadOptions cloud;
+  std::shared_ptr<const BagSource> bag;  // layout "rosbag": scans are the bag's messages
 
   std::size_t size() const { return scans.size(); }
   bool has_poses() const { return !poses.empty(); }

@@ -218,9 +218,7 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
   scan.stamp = stamp;
   scan.pose = sensor_pose(world, stamp);
   scan.input_size = n;
-  char name[16];
-  std::snprintf(name, sizeof(name), "%06zu", index);
-  scan.name = name;
+  scan.name = scan_name(index);
   return out;
 }
 

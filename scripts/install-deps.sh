@@ -11,5 +11,7 @@ $SUDO apt-get install -y -qq \
   libeigen3-dev libceres-dev libpcl-dev liboctomap-dev libnanoflann-dev libtbb-dev \
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev robin-map-dev \
   libgtest-dev libgmock-dev libbenchmark-dev \
+  librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev \
+  librcpputils-dev librcutils-dev libament-index-cpp-dev \
   > /dev/null
 echo "install-deps: all packages present"

@@ -1,0 +1,141 @@
+#include "io/rosbag_source.hpp"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <map>
+#include <set>
+
+#include "io/error.hpp"
+#include "io/raw_cloud.hpp"
+
+namespace cleanmap {
+namespace {
+
+Eigen::Isometry3d to_pose(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
+  p.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return p;
+}
+
+Eigen::Isometry3d to_pose(const geometry_msgs::Pose& t) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() = Eigen::Quaterniond(t.orientation.w, t.orientation.x, t.orientation.y, t.orientation.z).normalized().toRotationMatrix();
+  p.translation() = Eigen::Vector3d(t.position.x, t.position.y, t.position.z);
+  return p;
+}
+
+// Pose at time t from a time-sorted track: linear in translation, slerp in rotation; held
+// constant beyond the ends.
+Eigen::Isometry3d pose_at(const std::map<double, Eigen::Isometry3d>& track, double t) {
+  auto hi = track.lower_bound(t);
+  if (hi == track.begin()) return hi->second;
+  if (hi == track.end()) return std::prev(hi)->second;
+  auto lo = std::prev(hi);
+  const double s = (t - lo->first) / (hi->first - lo->first);
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() = Eigen::Quaterniond(lo->second.rotation()).slerp(s, Eigen::Quaterniond(hi->second.rotation())).toRotationMatrix();
+  p.translation() = (1 - s) * lo->second.translation() + s * hi->second.translation();
+  return p;
+}
+
+}  // namespace
+
+struct BagSource::Impl {
+  rosbag::Bag bag;
+  std::vector<rosbag::MessageInstance> clouds;
+};
+
+BagSource::BagSource(const std::filesystem::path& file, const BagOptions& options)
+    : impl_(std::make_unique<Impl>()), file_(file) {
+  if (!std::filesystem::is_regular_file(file)) fail(file, "no such bag file");
+  try {
+    impl_->bag.open(file.string(), rosbag::bagmode::Read);
+    topic_ = options.cloud_topic;
+    if (topic_.empty()) {
+      std::set<std::string> candidates;
+      rosbag::View all(impl_->bag);
+      for (const auto* c : all.getConnections()) {
+        if (c->datatype == "sensor_msgs/PointCloud2") candidates.insert(c->topic);
+      }
+      if (candidates.size() != 1) {
+        fail(file, std::to_string(candidates.size()) +
+                       " PointCloud2 topics in the bag; name one with --bag-topic");
+      }
+      topic_ = *candidates.begin();
+    }
+    rosbag::View view(impl_->bag, rosbag::TopicQuery(topic_));
+    for (const auto& m : view) {
+      if (m.getDataType() != "sensor_msgs/PointCloud2") {
+        fail(file, "topic " + topic_ + " carries " + m.getDataType() + ", not sensor_msgs/PointCloud2");
+      }
+      const auto msg = m.instantiate<sensor_msgs::PointCloud2>();
+      stamps_.push_back(msg->header.stamp.isZero() ? m.getTime().toSec() : msg->header.stamp.toSec());
+      impl_->clouds.push_back(m);
+    }
+    if (impl_->clouds.empty()) fail(file, "no messages on topic " + topic_);
+
+    if (!options.pose_topic.empty()) {
+      std::map<double, Eigen::Isometry3d> track;
+      rosbag::View poses(impl_->bag, rosbag::TopicQuery(options.pose_topic));
+      for (const auto& m : poses) {
+        if (auto odom = m.instantiate<nav_msgs::Odometry>()) {
+          track[odom->header.stamp.toSec()] = to_pose(odom->pose.pose);
+        } else if (auto tf = m.instantiate<geometry_msgs::TransformStamped>()) {
+          track[tf->header.stamp.toSec()] = to_pose(tf->transform);
+        } else if (auto tfs = m.instantiate<tf2_msgs::TFMessage>()) {
+          for (const auto& t : tfs->transforms) {
+            if (options.child_frame.empty() || t.child_frame_id == options.child_frame) {
+              track[t.header.stamp.toSec()] = to_pose(t.transform);
+            }
+          }
+        } else {
+          fail(file, "pose topic " + options.pose_topic + " carries " + m.getDataType() +
+                         " (expected nav_msgs/Odometry, geometry_msgs/TransformStamped or tf2_msgs/TFMessage)");
+        }
+      }
+      if (track.empty()) fail(file, "no poses on topic " + options.pose_topic);
+      for (double t : stamps_) poses_.push_back(pose_at(track, t));
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail(file, std::string("unreadable or truncated bag (") + e.what() + ")");
+  }
+}
+
+BagSource::~BagSource() = default;
+
+Scan BagSource::read(std::size_t index, TimeUnit time_unit) const {
+  sensor_msgs::PointCloud2::ConstPtr msg;
+  try {
+    msg = impl_->clouds.at(index).instantiate<sensor_msgs::PointCloud2>();
+  } catch (const std::exception& e) {
+    fail(file_, "message " + std::to_string(index) + " on " + topic_ + " is unreadable (" + e.what() + ")");
+  }
+  if (!msg) fail(file_, "message " + std::to_string(index) + " on " + topic_ + " is not a PointCloud2");
+  if (msg->is_bigendian) fail(file_, "big-endian point clouds are not supported");
+  const std::size_t n = static_cast<std::size_t>(msg->width) * msg->height;
+  if (msg->data.size() < n * msg->point_step) {
+    fail(file_, "message " + std::to_string(index) + ": data shorter than width x height x point_step");
+  }
+  RawCloud raw;
+  raw.data = msg->data.data();
+  raw.points = n;
+  raw.point_step = msg->point_step;
+  for (const auto& f : msg->fields) raw.fields.push_back({f.name, f.offset, f.datatype});
+  const auto source = file_.string() + ":" + topic_ + "#" + std::to_string(index);
+  Scan scan = scan_from_raw_cloud(raw, source, time_unit);
+  scan.name = scan_name(index);
+  // Per-point times relative to the message stamp unless they were absolute (handled by the
+  // sequence like any epoch-stamped scan).
+  if (scan.stamp == 0.0) scan.stamp = stamps_[index];
+  return scan;
+}
+
+}  // namespace cleanmap

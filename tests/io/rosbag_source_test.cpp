@@ -1,0 +1,127 @@
+// ROS 1 bags written with the same library (Debian's rosbag_storage), read back as sequences.
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "io/sequence.hpp"
+#include "io/synthetic_lidar.hpp"
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+
+// x y z intensity (float32) and t (uint32, nanoseconds after the header stamp), as an Ouster
+// driver publishes them.
+sensor_msgs::PointCloud2 to_message(const Scan& scan, double stamp) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.stamp = ros::Time(stamp);
+  msg.header.frame_id = "os_sensor";
+  msg.height = 1;
+  msg.width = static_cast<std::uint32_t>(scan.size());
+  const char* names[] = {"x", "y", "z", "intensity", "t"};
+  for (std::uint32_t k = 0; k < 5; ++k) {
+    sensor_msgs::PointField f;
+    f.name = names[k];
+    f.offset = 4 * k;
+    f.datatype = k < 4 ? sensor_msgs::PointField::FLOAT32 : sensor_msgs::PointField::UINT32;
+    f.count = 1;
+    msg.fields.push_back(f);
+  }
+  msg.point_step = 20;
+  msg.row_step = msg.point_step * msg.width;
+  msg.data.resize(msg.row_step);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    std::uint8_t* p = msg.data.data() + i * 20;
+    const auto c = static_cast<Eigen::Index>(i);
+    std::memcpy(p, scan.points.col(c).data(), 12);
+    std::memcpy(p + 12, &scan.intensity[c], 4);
+    const auto ns = static_cast<std::uint32_t>(std::lround(scan.time[c] * 1e9));
+    std::memcpy(p + 16, &ns, 4);
+  }
+  return msg;
+}
+
+// Six scans of the synthetic street at 10 Hz and its poses as Odometry at 20 Hz.
+std::vector<SyntheticScan> write_bag(const std::filesystem::path& file, int scans = 6) {
+  LidarModel lidar;
+  lidar.beams = 32;
+  lidar.columns = 512;
+  const auto world = make_street_world(5);
+  std::vector<SyntheticScan> out;
+  rosbag::Bag bag;
+  bag.open(file.string(), rosbag::bagmode::Write);
+  const double t0 = 1700000000.0;
+  for (int i = 0; i < 2 * scans; ++i) {
+    const double t = 0.05 * i;
+    const auto pose = sensor_pose(world, t);
+    nav_msgs::Odometry odom;
+    odom.header.stamp = ros::Time(t0 + t);
+    const Eigen::Quaterniond q(pose.rotation());
+    odom.pose.pose.position.x = pose.translation().x();
+    odom.pose.pose.position.y = pose.translation().y();
+    odom.pose.pose.position.z = pose.translation().z();
+    odom.pose.pose.orientation.w = q.w();
+    odom.pose.pose.orientation.x = q.x();
+    odom.pose.pose.orientation.y = q.y();
+    odom.pose.pose.orientation.z = q.z();
+    bag.write("/odom", odom.header.stamp, odom);
+    if (i % 2 == 0) {
+      out.push_back(simulate_scan(world, lidar, static_cast<std::size_t>(i / 2), 5));
+      bag.write("/os_cloud_node/points", ros::Time(t0 + t), to_message(out.back().scan, t0 + t));
+    }
+  }
+  bag.close();
+  return out;
+}
+
+TEST(RosBag, PointCloudsTimesAndOdometryPosesReadBack) {
+  test::TempDir dir;
+  const auto truth = write_bag(dir / "log.bag");
+  SequenceOptions o;
+  o.bag_pose_topic = "/odom";
+  const auto seq = open_sequence(dir / "log.bag", o);
+  EXPECT_EQ(seq.layout, "rosbag");
+  ASSERT_EQ(seq.size(), truth.size());
+  ASSERT_TRUE(seq.has_poses());
+  EXPECT_NEAR(seq.times[1] - seq.times[0], 0.1, 1e-6);
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    const auto s = load_scan(seq, i);
+    EXPECT_EQ(s.scan.name, scan_name(i));
+    ASSERT_EQ(s.scan.size(), truth[i].scan.size());
+    EXPECT_TRUE(s.scan.points.isApprox(truth[i].scan.points));
+    ASSERT_TRUE(s.scan.has_time());
+    EXPECT_NEAR((s.scan.time - truth[i].scan.time).cwiseAbs().maxCoeff(), 0.0, 1e-6);  // ns -> s
+    EXPECT_TRUE(s.scan.pose->isApprox(*truth[i].scan.pose, 1e-6));
+  }
+}
+
+TEST(RosBag, TruncatedBagAndUnknownTopicAreClearErrors) {
+  test::TempDir dir;
+  write_bag(dir / "log.bag");
+  SequenceOptions o;
+  o.bag_topic = "/nope";
+  test::expect_error([&] { open_sequence(dir / "log.bag", o); }, {"log.bag", "/nope"});
+  std::filesystem::copy_file(dir / "log.bag", dir / "cut.bag");
+  std::filesystem::resize_file(dir / "cut.bag", std::filesystem::file_size(dir / "cut.bag") / 3);
+  test::expect_error([&] { open_sequence(dir / "cut.bag"); }, {"cut.bag"});
+}
+
+TEST(RosBag, RunTakesABagEndToEnd) {
+  test::TempDir dir;
+  write_bag(dir / "log.bag", 8);
+  std::string out;
+  ASSERT_EQ(test::run_cleanmap("run --input " + (dir / "log.bag").string() + " --out " + (dir / "out").string() +
+                                   " --bag-pose-topic /odom --use-given-poses --voxel-size 0.2 --window-half 2",
+                               &out), 0) << out;
+  const auto s = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  EXPECT_TRUE(s["complete"].get<bool>());
+  EXPECT_EQ(s["layout"].get<std::string>(), "rosbag");
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "labels" / "000007.label"));
+}
+
+}  // namespace
+}  // namespace cleanmap
