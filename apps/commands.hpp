@@ -11,5 +11,6 @@ void register_odometry(CLI::App& app);
 void register_run(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_compare(CLI::App& app);
+void register_report(CLI::App& app);
 
 }  // namespace cleanmap::app

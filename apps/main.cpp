@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   cleanmap::app::register_run(app);
   cleanmap::app::register_eval(app);
   cleanmap::app::register_compare(app);
+  cleanmap::app::register_report(app);
   std::unique_ptr<tbb::global_control> limit;
   app.parse_complete_callback([&] {
     if (threads > 0) {

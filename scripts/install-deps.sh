@@ -9,7 +9,7 @@ $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq \
   build-essential cmake ninja-build pkg-config \
   libeigen3-dev libceres-dev libpcl-dev liboctomap-dev libnanoflann-dev libtbb-dev \
-  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev robin-map-dev \
+  libyaml-cpp-dev libcli11-dev nlohmann-json3-dev robin-map-dev python3-matplotlib \
   libgtest-dev libgmock-dev libbenchmark-dev \
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev \
   librcpputils-dev librcutils-dev libament-index-cpp-dev \

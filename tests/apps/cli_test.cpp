@@ -122,3 +122,26 @@ TEST(CliCompare, RunsOdometryWithAndWithoutRemovalAndReportsBoth) {
 
 }  // namespace
 }  // namespace cleanmap
+
+namespace cleanmap {
+namespace {
+
+TEST(CliReport, WritesASelfContainedPageWithPlotsAndTables) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --scans 6 --beams 32 --columns 512 --out " + dir.path.string()).code, 0);
+  const auto r = run("report " + (dir / "run").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(dir / "run" / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t images = 0;
+  for (auto p = page.find("data:image/png;base64,"); p != std::string::npos; p = page.find("data:image/png;base64,", p + 1)) ++images;
+  EXPECT_EQ(images, 4u);
+  EXPECT_EQ(page.find("http"), std::string::npos);  // nothing fetched from a network
+  EXPECT_NE(page.find("APE (SE3) translation"), std::string::npos);
+  for (const char* png : {"trajectory.png", "error_vs_distance.png", "per_scan.png", "maps.png"}) {
+    EXPECT_GT(std::filesystem::file_size(dir / "run" / "report" / png), 5000u) << png;
+  }
+}
+
+}  // namespace
+}  // namespace cleanmap

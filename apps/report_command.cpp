@@ -1,0 +1,118 @@
+#include <cstdio>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include "apps/commands.hpp"
+#include "apps/output_dir.hpp"
+#include "evaluation/trajectory_metrics.hpp"
+#include "io/cloud_file.hpp"
+#include "io/error.hpp"
+
+namespace cleanmap::app {
+namespace fs = std::filesystem;
+namespace {
+
+// Every k-th point's (x, y), at most `limit` of them: enough for a top view.
+nlohmann::json top_view(const fs::path& file, std::size_t limit) {
+  if (!fs::exists(file)) return {std::vector<float>{}, std::vector<float>{}};
+  const Scan cloud = read_cloud(file);
+  const std::size_t step = std::max<std::size_t>(1, cloud.size() / limit);
+  std::vector<float> x, y;
+  for (std::size_t i = 0; i < cloud.size(); i += step) {
+    x.push_back(cloud.points(0, static_cast<Eigen::Index>(i)));
+    y.push_back(cloud.points(1, static_cast<Eigen::Index>(i)));
+  }
+  return {x, y};
+}
+
+void make_report(const fs::path& out, fs::path ref, const std::string& python, const fs::path& script) {
+  if (!fs::exists(out / "summary.json")) fail(out, "has no summary.json: not a cleanmap output folder");
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  make_dirs(out / "report");
+  nlohmann::json d;
+  d["summary"] = summary;
+  d["per_scan"] = summary.value("per_scan", nlohmann::json::array());
+  const bool is_map = fs::exists(out / "map_static.pcd");
+  d["static_xy"] = top_view(out / (is_map ? "map_static.pcd" : "static.pcd"), 100000);
+  d["dynamic_xy"] = top_view(out / (is_map ? "map_dynamic.pcd" : "dynamic.pcd"), 50000);
+
+  if (fs::exists(out / "poses_kitti.txt")) {
+    std::vector<Eigen::Isometry3d> est;
+    for (const auto& p : read_poses(out / "poses_kitti.txt")) est.push_back(p.pose);
+    if (ref.empty() && summary.contains("input")) {
+      const fs::path guess = fs::path(summary["input"].get<std::string>()) / "poses.txt";
+      if (fs::exists(guess)) ref = guess;
+    }
+    std::vector<Eigen::Isometry3d> r;
+    if (!ref.empty()) {
+      for (const auto& p : read_poses(ref)) r.push_back(p.pose);
+      if (r.size() != est.size()) fail(ref, "has " + std::to_string(r.size()) + " poses for " + std::to_string(est.size()) + " estimated");
+    }
+    if (!r.empty()) {
+      const auto ape = absolute_pose_error(r, est, Alignment::kSE3);
+      const auto rpe = relative_pose_error(r, est, 1);
+      const auto kitti = kitti_errors(r, est);
+      nlohmann::json est_xy = nlohmann::json::array(), ref_xy = nlohmann::json::array(), errors = nlohmann::json::array(),
+                     dist = nlohmann::json::array();
+      double travelled = 0;
+      for (std::size_t i = 0; i < est.size(); ++i) {
+        const Eigen::Vector3d a = (ape.alignment * est[i].translation().homogeneous()).head<3>();
+        est_xy.push_back({a.x(), a.y()});
+        ref_xy.push_back({r[i].translation().x(), r[i].translation().y()});
+        if (i > 0) travelled += (r[i].translation() - r[i - 1].translation()).norm();
+        errors.push_back((a - r[i].translation()).norm());
+        dist.push_back(travelled);
+      }
+      d["estimate"] = est_xy;
+      d["reference"] = ref_xy;
+      d["ape_per_pose"] = errors;
+      d["distance"] = dist;
+      auto stats = [](const ErrorStats& s) { return nlohmann::json{{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}}; };
+      d["ape"] = stats(ape.translation);
+      d["rpe"] = stats(rpe.translation);
+      nlohmann::json lengths = nlohmann::json::array();
+      for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
+        auto num = [](double v) { return std::isnan(v) ? nlohmann::json("n/a") : nlohmann::json(v); };
+        lengths.push_back({{"length", kitti.lengths[k]}, {"t_err_percent", num(kitti.t_err_by_length[k])},
+                           {"r_err_deg_per_100m", num(kitti.r_err_by_length[k])}});
+      }
+      auto num = [](double v) { return std::isnan(v) ? nlohmann::json("n/a") : nlohmann::json(v); };
+      d["kitti"] = {{"by_length", lengths}, {"t_err_percent", num(kitti.t_err_percent)},
+                    {"r_err_deg_per_100m", num(kitti.r_err_deg_per_100m)}};
+    } else {
+      nlohmann::json est_xy = nlohmann::json::array();
+      for (const auto& p : est) est_xy.push_back({p.translation().x(), p.translation().y()});
+      d["estimate"] = est_xy;
+    }
+  }
+  {
+    std::ofstream f(out / "report" / "data.json");
+    if (!f) fail(out / "report" / "data.json", "cannot create file");
+    f << d.dump();
+  }
+  if (!fs::exists(script)) fail(script, "report script not found (give --script)");
+  const std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "'";
+  if (std::system(cmd.c_str()) != 0) {
+    fail(script, "failed (it needs Debian's python3-matplotlib: apt-get install python3-matplotlib)");
+  }
+  std::printf("report: %s (plots in %s)\n", (out / "report.html").c_str(), (out / "report").c_str());
+}
+
+}  // namespace
+
+void register_report(CLI::App& app) {
+  struct Args {
+    fs::path out, ref, script = CLEANMAP_REPORT_SCRIPT;
+    std::string python = "/usr/bin/python3";  // Debian's, which has python3-matplotlib
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand("report", "A self-contained HTML report (plots and tables) of an output folder");
+  cmd->add_option("out", args->out, "Output folder of run, score or odometry")->required();
+  cmd->add_option("--ref", args->ref, "Reference poses; default <input>/poses.txt when present");
+  cmd->add_option("--python", args->python, "Python with matplotlib")->capture_default_str();
+  cmd->add_option("--script", args->script, "The plotting script")->capture_default_str();
+  cmd->callback([args] { make_report(args->out, args->ref, args->python, args->script); });
+}
+
+}  // namespace cleanmap::app
