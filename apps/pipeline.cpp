@@ -97,10 +97,13 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   Progress progress(opt.command, seq.size());
 
   std::mutex odom_mutex;  // the pipeline's first stage registers, its last feeds dynamics back
-  auto emit = [&](ScoredScan& r, const std::vector<std::uint32_t>& gt) {
+  double mapping_s = 0, write_s = 0;
+  // Pipeline stage 3: the occupancy opinion, then the static points into the map.
+  auto map_scan = [&](ScoredScan& r) {
+    if (!opt.mapping) return;
+    const auto t = Clock::now();
     Scan& scan = r.scan;
-    auto t = Clock::now();
-    if (opt.mapping && cfg.mapping.free_space) {
+    if (cfg.mapping.free_space) {
       const double sensor_z = scan.pose->translation().z();
       const auto ground = segment_ground(scan.points, sensor_z, cfg.scorer.ground_cell, cfg.scorer.ground_height);
       const auto objects = free_space_objects(
@@ -113,7 +116,21 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
         }
       }
     }
-    std::vector<std::uint8_t> keep_static(scan.size()), all(scan.size(), 1);
+    if (r.index % static_cast<std::size_t>(std::max(1, cfg.mapping.insert_every)) == 0) {
+      std::vector<std::int32_t> keep;
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        if (!r.dynamic[i]) keep.push_back(static_cast<std::int32_t>(i));
+      }
+      octo->insert(select_points(scan, keep).points, scan.pose->translation());
+    }
+    mapping_s += since(t);
+  };
+
+  // Pipeline stage 4: per-scan files, map clouds, metrics, and the odometry feedback.
+  auto write_scan = [&](ScoredScan& r, const std::vector<std::uint32_t>& gt) {
+    const auto t = Clock::now();
+    Scan& scan = r.scan;
+    std::vector<std::uint8_t> keep_static(scan.size());
     std::vector<std::uint32_t> labels(scan.size());
     std::size_t n_dyn = 0, n_unscored = 0;
     for (std::size_t i = 0; i < scan.size(); ++i) {
@@ -122,19 +139,9 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
       n_dyn += r.dynamic[i];
       n_unscored += std::isnan(r.score[i]) && !r.dynamic[i];
     }
-    if (opt.mapping) {
-      Eigen::Matrix3Xf kept(3, static_cast<Eigen::Index>(scan.size() - n_dyn));
-      Eigen::Index k = 0;
-      for (std::size_t i = 0; i < scan.size(); ++i) {
-        if (keep_static[i]) kept.col(k++) = scan.points.col(static_cast<Eigen::Index>(i));
-      }
-      if (r.index % static_cast<std::size_t>(std::max(1, cfg.mapping.insert_every)) == 0) {
-        octo->insert(kept, scan.pose->translation());
-      }
-      if (cfg.mapping.write_raw_map) raw_cloud.add(scan, all, r.score, r.index);
+    if (opt.mapping && cfg.mapping.write_raw_map) {
+      raw_cloud.add(scan, std::vector<std::uint8_t>(scan.size(), 1), r.score, r.index);
     }
-    stage_seconds["mapping"] += since(t);
-    t = Clock::now();
     if (odom && cfg.odometry.exclude_dynamic && n_dyn > 0) {
       std::lock_guard<std::mutex> lock(odom_mutex);
       std::vector<Eigen::Vector3d> moving;
@@ -147,7 +154,6 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     write_labels(opt.out / "labels" / (scan.name + ".label"), to_input_order(scan, labels, kLabelUnscored));
     dynamic_cloud.add(scan, r.dynamic, r.score, r.index);
     static_cloud.add(scan, keep_static, r.score, r.index);
-    stage_seconds["write"] += since(t);
 
     nlohmann::json js{{"scan", scan.name},
                       {"points", scan.size()},
@@ -178,10 +184,11 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     dynamic_points += n_dyn;
     unscored += n_unscored;
     per_scan.push_back(js);
+    write_s += since(t);
   };
 
-  // Three stages run concurrently on consecutive scans (TBB pipeline, each stage in order):
-  // read + pose, scoring, mapping + writing. Each stage owns its state.
+  // Four stages run concurrently on consecutive scans (TBB pipeline, each stage in order):
+  // read + pose, scoring, mapping, writing. Each stage owns its state.
   struct Item {
     std::size_t index = 0;
     Scan world;
@@ -199,7 +206,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     }
   };
   tbb::parallel_pipeline(
-      3,
+      4,
       tbb::make_filter<void, std::shared_ptr<Item>>(
           tbb::filter_mode::serial_in_order,
           [&](tbb::flow_control& fc) -> std::shared_ptr<Item> {
@@ -243,10 +250,18 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
                 scoring_s += since(t);
                 return item;
               }) &
+          tbb::make_filter<std::shared_ptr<Item>, std::shared_ptr<Item>>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::shared_ptr<Item> item) {
+                for (auto& [r, labels] : item->scored) map_scan(r);
+                return item;
+              }) &
           tbb::make_filter<std::shared_ptr<Item>, void>(
               tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Item> item) {
-                for (auto& [r, labels] : item->scored) emit(r, labels);
+                for (auto& [r, labels] : item->scored) write_scan(r, labels);
               }));
+  stage_seconds["mapping"] = mapping_s;
+  stage_seconds["write"] = write_s;
   stage_seconds["read"] = read_s;
   stage_seconds["odometry"] = odometry_s;
   stage_seconds["scoring"] = scoring_s;

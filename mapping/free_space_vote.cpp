@@ -3,7 +3,9 @@
 #include <tbb/parallel_for.h>
 
 #include "dynamics/euclidean_clusters.hpp"
-#include "io/point_index.hpp"
+#include <tsl/robin_map.h>
+
+#include "io/voxel_key.hpp"
 #include "io/voxel_downsample.hpp"
 
 namespace cleanmap {
@@ -16,7 +18,8 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   const auto n = static_cast<std::size_t>(points.cols());
   std::vector<std::uint8_t> out(n, 0);
   if (n == 0) return out;
-  const auto keep = voxel_downsample(points, 0.2);
+  constexpr double kVoxel = 0.2;
+  const auto keep = voxel_downsample(points, kVoxel);
   Eigen::Matrix3Xf sub(3, static_cast<Eigen::Index>(keep.size()));
   std::vector<std::uint8_t> include(keep.size());
   for (std::size_t k = 0; k < keep.size(); ++k) {
@@ -25,13 +28,19 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   }
   const auto cluster = euclidean_clusters(sub, include, cluster_radius);
   const auto hits = hits_in_free_space(sub);
-  const PointIndex index(sub);
-  // Each full-resolution point belongs to the cluster of its nearest subsample.
+  // Each full-resolution point belongs to the cluster of its voxel's representative.
+  const double inv = 1.0 / kVoxel;
+  tsl::robin_map<VoxelKey, std::int32_t, VoxelKeyHash> representative;
+  representative.reserve(keep.size());
+  for (std::size_t k = 0; k < keep.size(); ++k) {
+    representative[voxel_of(points.col(keep[k]), inv)] = static_cast<std::int32_t>(k);
+  }
   std::vector<std::int32_t> owner(n, -1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const auto& r) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const auto nn = index.nearest(points.col(static_cast<Eigen::Index>(i)));
-      if (nn && !ground[i]) owner[i] = cluster[nn->first];
+      if (ground[i]) continue;
+      const auto it = representative.find(voxel_of(points.col(static_cast<Eigen::Index>(i)), inv));
+      if (it != representative.end()) owner[i] = cluster[static_cast<std::size_t>(it->second)];
     }
   });
   std::int32_t clusters = 0;

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Whole-pipeline throughput (odometry + scoring + mapping + writing) on a 131,072-ray, 10 Hz
+# synthetic stream (64 x 2048, Ouster OS1-64 size), default settings (the paper's relative d_v,
+# N = 10), on this machine's cores. Prints scans/s, each stage's busy time and peak memory.
+#   bash bench/pipeline_bench.sh [build-dir] [scans]
+set -euo pipefail
+build="${1:-build}"
+scans="${2:-60}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+"$build/apps/cleanmap" demo --generate-only --scans "$scans" --columns 2048 --out "$work/demo" > /dev/null 2>&1
+/usr/bin/time -v "$build/apps/cleanmap" run --input "$work/demo/sequence" --out "$work/run" \
+  > /dev/null 2> "$work/time.txt"
+/usr/bin/python3 - "$work/run/summary.json" "$work/time.txt" <<'PY'
+import json, re, sys
+s = json.load(open(sys.argv[1]))
+rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", open(sys.argv[2]).read())
+busy = s["stage_seconds"]
+print(f"scans {s['scans']}, points/scan {s['points'] / s['scans']:.0f}, wall {s['seconds']:.1f} s, "
+      f"{s['scans_per_second']:.2f} scans/s, peak RSS {int(rss.group(1)) / 1024:.0f} MiB" if rss else "")
+total = sum(busy.values())
+for k, v in sorted(busy.items(), key=lambda kv: -kv[1]):
+    print(f"  {k:9s} {1e3 * v / s['scans']:7.1f} ms/scan busy ({100 * v / total:4.1f}% of stage time)")
+m = s.get("moving")
+if m:
+    print(f"  moving class (all ranges): IoU {m['iou']:.3f} precision {m['precision']:.3f} recall {m['recall']:.3f}")
+PY
