@@ -3,7 +3,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
-#include <unordered_set>
+#include <tsl/robin_set.h>
 #include <vector>
 
 #include "io/cloud_file.hpp"
@@ -31,7 +31,7 @@ class PointCloudMap {
 
  private:
   double voxel_;
-  std::unordered_set<VoxelKey, VoxelKeyHash> seen_;
+  tsl::robin_set<VoxelKey, VoxelKeyHash> seen_;
   std::vector<float> x_, y_, z_, intensity_, score_, scan_;
   bool has_intensity_ = true;
 };
