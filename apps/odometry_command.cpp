@@ -59,7 +59,13 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
         << step.points << ',' << step.iterations << ',' << step.correspondences << ','
         << step.rms_residual << ',' << step.threshold << ',' << step.degenerate << ','
         << step.seconds << ',' << step.note << '\n';
-    if (args.write_scans) write_cloud(args.out / "scans" / (loaded.scan.name + ".pcd"), step.deskewed);
+    if (args.write_scans) {
+      // Deskewed already: without the per-point times, a later `score --input OUT` places the
+      // points with the scan's pose alone instead of undistorting them a second time.
+      Scan deskewed = std::move(step.deskewed);
+      deskewed.time.resize(0);
+      write_cloud(args.out / "scans" / (loaded.scan.name + ".pcd"), deskewed);
+    }
     progress.update(i + 1);
   }
   progress.finish();

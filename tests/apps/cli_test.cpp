@@ -145,3 +145,26 @@ TEST(CliReport, WritesASelfContainedPageWithPlotsAndTables) {
 
 }  // namespace
 }  // namespace cleanmap
+
+namespace cleanmap {
+namespace {
+
+TEST(CliOdometry, WrittenScansFormASequenceThatScoreReads) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --generate-only --scans 8 --beams 32 --columns 512 --out " + dir.path.string()).code, 0);
+  auto r = run("odometry --input " + (dir / "sequence").string() + " --out " + (dir / "odo").string() + " --write-scans");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"poses_kitti.txt", "poses_tum.txt", "poses.txt", "times.txt", "odometry_log.csv",
+                        "scans/000007.pcd", "summary.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "odo" / f)) << f;
+  }
+  r = run("score --input " + (dir / "odo").string() + " --out " + (dir / "score").string() +
+          " --voxel-size 0.2 --window-half 2");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = nlohmann::json::parse(std::ifstream(dir / "score" / "summary.json"));
+  EXPECT_TRUE(s["complete"].get<bool>());
+  EXPECT_EQ(s["scans"].get<int>(), 8);
+}
+
+}  // namespace
+}  // namespace cleanmap
