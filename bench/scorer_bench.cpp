@@ -17,17 +17,9 @@ const std::vector<Scan>& os1_stream() {
   static const std::vector<Scan> scans = [] {
     LidarModel lidar;  // 64 x 2048
     const auto world = make_street_world(7);
-    std::vector<SyntheticScan> raw;
-    std::vector<Eigen::Isometry3d> poses;
-    std::vector<double> times;
-    for (std::size_t i = 0; i < 41; ++i) {
-      raw.push_back(simulate_scan(world, lidar, i, 7));
-      poses.push_back(*raw.back().scan.pose);
-      times.push_back(raw.back().scan.stamp);
-    }
-    std::vector<Scan> out;
-    for (std::size_t i = 0; i < raw.size(); ++i) out.push_back(to_world(raw[i].scan, sweep_motion(poses, times, i)));
-    return out;
+    std::vector<Scan> raw;
+    for (std::size_t i = 0; i < 41; ++i) raw.push_back(simulate_scan(world, lidar, i, 7).scan);
+    return to_world(raw);
   }();
   return scans;
 }

@@ -57,6 +57,18 @@ Scan to_world(const Scan& scan, const SweepMotion& motion) {
   return out;
 }
 
+std::vector<Scan> to_world(const std::vector<Scan>& scans) {
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<double> times;
+  for (const auto& s : scans) {
+    poses.push_back(s.pose.value());
+    times.push_back(s.stamp);
+  }
+  std::vector<Scan> out;
+  for (std::size_t i = 0; i < scans.size(); ++i) out.push_back(to_world(scans[i], sweep_motion(poses, times, i)));
+  return out;
+}
+
 Scan deskew(const Scan& scan, const SweepMotion& motion, double t_ref) {
   if (!scan.has_time()) return scan;
   return transform_per_point(scan, motion, motion.at(t_ref).inverse());

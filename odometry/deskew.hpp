@@ -30,6 +30,10 @@ SweepMotion sweep_motion(const std::vector<Eigen::Isometry3d>& poses,
 // per-point times every point uses the stamp's pose. Returns a world-frame copy (pose kept).
 Scan to_world(const Scan& scan, const SweepMotion& motion);
 
+// A sequence whose poses are known (each scan's pose at its stamp), every scan placed in the
+// world with each point's pose at its own capture time (sweep_motion between neighbours).
+std::vector<Scan> to_world(const std::vector<Scan>& scans);
+
 // Undistorts a scan into the sensor frame at reference time `t_ref` (seconds relative to the
 // stamp): p' = T(t_ref)^-1 T(t_i) p_i. A no-op without per-point times.
 Scan deskew(const Scan& scan, const SweepMotion& motion, double t_ref);

@@ -22,25 +22,25 @@ TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
   LidarModel lidar;
   lidar.columns = 1024;
   const auto world = make_street_world(4);
-  std::vector<SyntheticScan> raw;
-  std::vector<Eigen::Isometry3d> poses;
-  std::vector<double> times;
+  std::vector<Scan> raw;
+  std::vector<std::vector<std::uint32_t>> labels;
   for (std::size_t i = 0; i < 16; ++i) {
-    raw.push_back(simulate_scan(world, lidar, i, 4));
-    poses.push_back(*raw.back().scan.pose);
-    times.push_back(raw.back().scan.stamp);
+    auto sim = simulate_scan(world, lidar, i, 4);
+    raw.push_back(std::move(sim.scan));
+    labels.push_back(std::move(sim.labels));
   }
   std::vector<Eigen::Vector3f> gt_points;
   std::vector<float> gt_dynamic;
-  for (std::size_t i = 0; i < raw.size(); ++i) {
-    Scan w = to_world(raw[i].scan, sweep_motion(poses, times, i));
+  auto placed = to_world(raw);
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    Scan& w = placed[i];
     w.time.resize(0);  // the benchmark's files carry x y z intensity only
     CloudWriteOptions o;
-    o.viewpoint = poses[i];
-    write_cloud(dir / "seq" / "pcd" / (raw[i].scan.name + ".pcd"), w, {}, o);
+    o.viewpoint = w.pose;
+    write_cloud(dir / "seq" / "pcd" / (w.name + ".pcd"), w, {}, o);
     for (std::size_t k = 0; k < w.size(); ++k) {
       gt_points.push_back(w.points.col(static_cast<Eigen::Index>(k)));
-      gt_dynamic.push_back(is_moving_label(raw[i].labels[k]) ? 1.0f : 0.0f);
+      gt_dynamic.push_back(is_moving_label(labels[i][k]) ? 1.0f : 0.0f);
     }
   }
   Scan gt;

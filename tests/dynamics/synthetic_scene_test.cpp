@@ -23,18 +23,13 @@ const Scene& street() {
     LidarModel lidar;
     lidar.columns = 1024;
     const auto world = make_street_world(1);
-    std::vector<SyntheticScan> raw;
-    std::vector<Eigen::Isometry3d> poses;
-    std::vector<double> times;
+    std::vector<Scan> raw;
     for (std::size_t i = 0; i < 21; ++i) {
-      raw.push_back(simulate_scan(world, lidar, i, 1));
-      poses.push_back(*raw.back().scan.pose);
-      times.push_back(raw.back().scan.stamp);
+      auto sim = simulate_scan(world, lidar, i, 1);
+      raw.push_back(std::move(sim.scan));
+      s.labels.push_back(std::move(sim.labels));
     }
-    for (std::size_t i = 0; i < raw.size(); ++i) {
-      s.world_scans.push_back(to_world(raw[i].scan, sweep_motion(poses, times, i)));
-      s.labels.push_back(raw[i].labels);
-    }
+    s.world_scans = to_world(raw);
     return s;
   }();
   return scene;
