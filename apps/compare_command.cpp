@@ -74,9 +74,8 @@ void register_compare(CLI::App& app) {
     std::printf("%-34s %14.4f %14.4f\n", "RPE (1 frame) translation RMSE [m]", a.rpe.translation.rmse, b.rpe.translation.rmse);
     std::printf("%-34s %14.4f %14.4f\n", "RPE (1 frame) rotation RMSE [deg]", a.rpe.rotation.rmse, b.rpe.rotation.rmse);
     auto js = [](const TrajectoryNumbers& t) {
-      auto num = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
-      return nlohmann::json{{"kitti_t_err_percent", num(t.kitti.t_err_percent)},
-                            {"kitti_r_err_deg_per_100m", num(t.kitti.r_err_deg_per_100m)},
+      return nlohmann::json{{"kitti_t_err_percent", json_number(t.kitti.t_err_percent)},
+                            {"kitti_r_err_deg_per_100m", json_number(t.kitti.r_err_deg_per_100m)},
                             {"ape_rmse_m", t.ape.translation.rmse},
                             {"rpe_translation_rmse_m", t.rpe.translation.rmse},
                             {"rpe_rotation_rmse_deg", t.rpe.rotation.rmse}};

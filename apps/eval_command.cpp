@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "apps/commands.hpp"
+#include "apps/output_dir.hpp"
 #include "apps/settings.hpp"
 #include "evaluation/box_labels.hpp"
 #include "evaluation/dynamic_metrics.hpp"
@@ -19,8 +20,6 @@ namespace {
 nlohmann::json stats_json(const ErrorStats& s) {
   return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"count", s.count}};
 }
-
-nlohmann::json num(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
 
 void write_json(const fs::path& file, const nlohmann::json& j) {
   if (file.empty()) return;
@@ -68,14 +67,8 @@ void eval_trajectory(const TrajectoryArgs& a) {
               a.align.c_str(), ape.translation.rmse, ape.translation.mean, ape.translation.median, ape.translation.max);
   std::printf("RPE (delta %d frames): translation rmse %.4f m, rotation rmse %.4f deg\n", a.delta,
               rpe.translation.rmse, rpe.rotation.rmse);
-  nlohmann::json lengths = nlohmann::json::array();
-  for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
-    lengths.push_back({{"length", kitti.lengths[k]}, {"t_err_percent", num(kitti.t_err_by_length[k])},
-                       {"r_err_deg_per_100m", num(kitti.r_err_by_length[k])}});
-  }
   write_json(a.json, {{"paired", r.size()},
-                      {"kitti", {{"segments", kitti.segments.size()}, {"t_err_percent", num(kitti.t_err_percent)},
-                                 {"r_err_deg_per_100m", num(kitti.r_err_deg_per_100m)}, {"by_length", lengths}}},
+                      {"kitti", kitti_json(kitti)},
                       {"ape", {{"alignment", a.align}, {"scale", ape.scale}, {"translation", stats_json(ape.translation)}}},
                       {"rpe", {{"delta_frames", a.delta}, {"translation", stats_json(rpe.translation)},
                                {"rotation_deg", stats_json(rpe.rotation)}}}});
@@ -135,13 +128,13 @@ void eval_dynamic(const DynamicArgs& a) {
     total += c;
     std::printf("  %s  IoU %.3f  precision %.3f  recall %.3f\n", seq.scans[i].stem().c_str(), c.iou(),
                 c.precision(), c.recall());
-    scans.push_back({{"scan", seq.scans[i].stem().string()}, {"iou", num(c.iou())},
-                     {"precision", num(c.precision())}, {"recall", num(c.recall())}});
+    scans.push_back({{"scan", seq.scans[i].stem().string()}, {"iou", json_number(c.iou())},
+                     {"precision", json_number(c.precision())}, {"recall", json_number(c.recall())}});
   }
   std::printf("moving class: IoU %.3f  precision %.3f  recall %.3f  (tp %zu fp %zu fn %zu)\n",
               total.iou(), total.precision(), total.recall(), total.tp, total.fp, total.fn);
-  write_json(a.json, {{"iou", num(total.iou())}, {"precision", num(total.precision())},
-                      {"recall", num(total.recall())}, {"max_range", a.max_range}, {"scans", scans}});
+  write_json(a.json, {{"iou", json_number(total.iou())}, {"precision", json_number(total.precision())},
+                      {"recall", json_number(total.recall())}, {"max_range", a.max_range}, {"scans", scans}});
 }
 
 struct MapArgs {
@@ -158,7 +151,7 @@ void eval_map(const MapArgs& a) {
   const auto s = score_map(gt.points, dynamic, out.points, a.distance);
   std::printf("DynamicMap benchmark: SA %.3f  DA %.3f  AA %.3f  HA %.3f  (%zu static, %zu dynamic ground-truth points)\n",
               s.sa, s.da, s.aa, s.ha, s.static_points, s.dynamic_points);
-  write_json(a.json, {{"SA", num(s.sa)}, {"DA", num(s.da)}, {"AA", num(s.aa)}, {"HA", num(s.ha)},
+  write_json(a.json, {{"SA", json_number(s.sa)}, {"DA", json_number(s.da)}, {"AA", json_number(s.aa)}, {"HA", json_number(s.ha)},
                       {"static_points", s.static_points}, {"dynamic_points", s.dynamic_points},
                       {"static_kept", s.static_kept}, {"dynamic_removed", s.dynamic_removed}});
 }

@@ -1,5 +1,6 @@
 #include "apps/output_dir.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 
@@ -25,6 +26,21 @@ void write_summary(const std::filesystem::path& out, nlohmann::json summary, boo
     if (!f) fail(tmp, "write failed");
   }
   std::filesystem::rename(tmp, out / "summary.json");
+}
+
+nlohmann::json json_number(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
+
+nlohmann::json kitti_json(const KittiErrors& kitti) {
+  nlohmann::json lengths = nlohmann::json::array();
+  for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
+    lengths.push_back({{"length", kitti.lengths[k]},
+                       {"t_err_percent", json_number(kitti.t_err_by_length[k])},
+                       {"r_err_deg_per_100m", json_number(kitti.r_err_by_length[k])}});
+  }
+  return {{"segments", kitti.segments.size()},
+          {"t_err_percent", json_number(kitti.t_err_percent)},
+          {"r_err_deg_per_100m", json_number(kitti.r_err_deg_per_100m)},
+          {"by_length", lengths}};
 }
 
 void run_guarded(const std::filesystem::path& out, const std::string& command,

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "evaluation/trajectory_metrics.hpp"
 #include "io/pose_file.hpp"
 
 namespace cleanmap::app {
@@ -19,6 +20,12 @@ void make_dirs(const std::filesystem::path& dir);
 // summary, and "complete": true appears only once everything else is written.
 void write_summary(const std::filesystem::path& out, nlohmann::json summary, bool complete,
                    const std::string& error = "");
+
+// A number for JSON; NaN (a metric with nothing to measure) becomes null.
+nlohmann::json json_number(double v);
+
+// KITTI segment errors per length and pooled, as every command reports them.
+nlohmann::json kitti_json(const KittiErrors& kitti);
 
 // Runs a command's body; when it stops on bad input, marks OUT/summary.json incomplete with
 // the message (if OUT exists) before the error reaches main.

@@ -36,8 +36,8 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 nlohmann::json metrics_json(const MovingConfusion& c) {
-  auto num = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
-  return {{"iou", num(c.iou())}, {"precision", num(c.precision())}, {"recall", num(c.recall())},
+  return {{"iou", json_number(c.iou())}, {"precision", json_number(c.precision())},
+          {"recall", json_number(c.recall())},
           {"tp", c.tp}, {"fp", c.fp}, {"fn", c.fn}, {"tn", c.tn}};
 }
 
@@ -55,13 +55,13 @@ nlohmann::json library_versions() {
 
 void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohmann::json summary) {
   validate(cfg.scorer);
-  if (opt.odometry) validate(cfg.odometry);  // (skipped below for world-frame logs)
   if (opt.mapping) validate(cfg.mapping.map);
   const Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
   // DynamicMap sequences are registered already: no odometry, and the output keeps every raw
   // input point that is not removed (never voxel centres or re-posed copies), as that
   // benchmark scores kept points by distance.
   const bool use_odometry = opt.odometry && !seq.world_frame;
+  if (use_odometry) validate(cfg.odometry);
   if (!use_odometry && !seq.has_poses() && !seq.world_frame) {
     fail(opt.input, "no poses: give --poses FILE or put poses.txt in the folder "
                     "(`cleanmap odometry` estimates them, `cleanmap run` does it itself)");

@@ -79,9 +79,13 @@ def map_plot(d, out):
     return save(fig, out / "maps.png")
 
 
+def cell(c):
+    return "n/a" if c is None else html.escape(str(c))  # null: a metric with nothing to measure
+
+
 def table(rows, head):
-    h = "".join(f"<th>{html.escape(str(c))}</th>" for c in head)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>" for r in rows)
+    h = "".join(f"<th>{cell(c)}</th>" for c in head)
+    body = "".join("<tr>" + "".join(f"<td>{cell(c)}</td>" for c in r) + "</tr>" for r in rows)
     return f"<table><tr>{h}</tr>{body}</table>"
 
 

@@ -71,15 +71,7 @@ void make_report(const fs::path& out, fs::path ref, const std::string& python, c
       auto stats = [](const ErrorStats& s) { return nlohmann::json{{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}}; };
       d["ape"] = stats(ape.translation);
       d["rpe"] = stats(rpe.translation);
-      nlohmann::json lengths = nlohmann::json::array();
-      for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
-        auto num = [](double v) { return std::isnan(v) ? nlohmann::json("n/a") : nlohmann::json(v); };
-        lengths.push_back({{"length", kitti.lengths[k]}, {"t_err_percent", num(kitti.t_err_by_length[k])},
-                           {"r_err_deg_per_100m", num(kitti.r_err_by_length[k])}});
-      }
-      auto num = [](double v) { return std::isnan(v) ? nlohmann::json("n/a") : nlohmann::json(v); };
-      d["kitti"] = {{"by_length", lengths}, {"t_err_percent", num(kitti.t_err_percent)},
-                    {"r_err_deg_per_100m", num(kitti.r_err_deg_per_100m)}};
+      d["kitti"] = kitti_json(kitti);
     } else {
       nlohmann::json est_xy = nlohmann::json::array();
       for (const auto& p : est) est_xy.push_back({p.translation().x(), p.translation().y()});

@@ -27,12 +27,6 @@ class PointIndex {
     tree_->radiusSearchCustomCallback(q.data(), cb, nanoflann::SearchParams(32, 0.0f, false));
   }
 
-  std::vector<std::uint32_t> within(const Eigen::Vector3f& q, float radius) const {
-    std::vector<std::uint32_t> out;
-    for_each_within(q, radius, [&](std::uint32_t i, float) { out.push_back(i); });
-    return out;
-  }
-
   // Index and squared distance of the closest point, if the index is not empty.
   std::optional<std::pair<std::uint32_t, float>> nearest(const Eigen::Vector3f& q) const {
     if (size() == 0) return std::nullopt;

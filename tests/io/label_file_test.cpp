@@ -1,5 +1,7 @@
 #include "io/label_file.hpp"
 
+#include <cmath>
+
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -24,6 +26,25 @@ TEST(LabelFile, CountDifferentFromScanIsAnError) {
   write_labels(dir / "000002.label", std::vector<std::uint32_t>(5, kLabelStatic));
   test::expect_error([&] { read_labels(dir / "000002.label", 6); },
                      {"000002.label", "5 labels", "6 points"});
+}
+
+}  // namespace
+}  // namespace cleanmap
+
+#include "io/score_file.hpp"
+
+namespace cleanmap {
+namespace {
+
+TEST(ScoreFile, RoundTripsIncludingNotScoredAndChecksTheCount) {
+  test::TempDir dir;
+  const std::vector<float> scores{0.0f, 0.25f, std::nanf(""), 1.0f};
+  write_scores(dir / "000003.bin", scores);
+  const auto r = read_scores(dir / "000003.bin", 4);
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_FLOAT_EQ(r[1], 0.25f);
+  EXPECT_TRUE(std::isnan(r[2]));
+  test::expect_error([&] { read_scores(dir / "000003.bin", 5); }, {"000003.bin", "4 scores", "5 points"});
 }
 
 }  // namespace
