@@ -3,13 +3,22 @@
 #include <octomap/OcTree.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
 #include "io/error.hpp"
 #include "io/voxel_downsample.hpp"
+#include "mapping/carve_ray.hpp"
+#include "mapping/cell_set.hpp"
 
 namespace cleanmap {
+namespace {
+
+CellSet::Key key_of(const octomap::OcTreeKey& k) { return {k[0], k[1], k[2]}; }
+octomap::OcTreeKey tree_key(const CellSet::Key& k) { return octomap::OcTreeKey(k[0], k[1], k[2]); }
+
+}  // namespace
 
 void validate(const MapConfig& c) {
   auto bad = [](const std::string& what) { throw Error("mapping: " + what); };
@@ -37,25 +46,30 @@ OctoMapBuilder::~OctoMapBuilder() = default;
 void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
   // Occupied cells from every point (one update per cell); free space carved by rays to a
   // sparser subsample only: rays are the cost, and neighbouring rays cross the same cells.
-  const octomap::point3d o(origin.x(), origin.y(), origin.z());
   const double max_sq = config_.max_range * config_.max_range;
-  octomap::KeySet occupied;
+  CellSet occupied;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if ((points.col(i).cast<double>() - origin).squaredNorm() > max_sq) continue;
     octomap::OcTreeKey key;
-    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) occupied.insert(key);
+    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) occupied.insert(key_of(key));
   }
   const double voxel = config_.insert_voxel > 0 ? config_.insert_voxel : config_.resolution;
-  const auto keep = voxel_downsample(points, voxel);
-  octomap::Pointcloud rays;
-  rays.reserve(keep.size());
-  for (auto i : keep) rays.push_back(points(0, i), points(1, i), points(2, i));
-  octomap::KeySet free, ray_ends;
-  tree_->computeUpdate(rays, o, free, ray_ends, config_.max_range);
-  for (const auto& key : free) {
-    if (!occupied.count(key)) tree_->updateNode(key, false, true);
+  CellSet carved;
+  for (const auto i : voxel_downsample(points, voxel)) {
+    const Eigen::Vector3d p = points.col(i).cast<double>();
+    const double length = (p - origin).norm();
+    // A ray longer than the range limit is cut and carves free space up to the cut; its end
+    // cell is not a hit.
+    if (length > config_.max_range) {
+      carve_ray(*tree_, origin + (p - origin) * (config_.max_range / length), origin, true, carved);
+    } else {
+      carve_ray(*tree_, p, origin, false, carved);
+    }
   }
-  for (const auto& key : occupied) tree_->updateNode(key, true, true);
+  carved.for_each_in_tree_order([&](const CellSet::Key& k) {
+    if (!occupied.contains(k)) tree_->updateNode(tree_key(k), false, true);
+  });
+  occupied.for_each_in_tree_order([&](const CellSet::Key& k) { tree_->updateNode(tree_key(k), true, true); });
 }
 
 std::vector<std::uint8_t> OctoMapBuilder::hits_in_free_space(const Eigen::Matrix3Xf& points) const {

@@ -55,9 +55,12 @@ TEST(OctoMapBuilder, CarvesFreeSpaceAndMarksHitsAndWritesReadableMaps) {
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
   OctoMapBuilder map(MapConfig{});
   for (int k = 0; k < 6; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
-  // A box-like object at x = 5 (in free space) and the wall (static) in one scan.
+  // A flat object at x = 5, inside the cone of rays the wall carved (half its size at half
+  // the distance), and the wall (static) in one scan.
+  Eigen::Matrix3Xf object = wall(5);
+  object.bottomRows<2>() *= 0.5f;
   Eigen::Matrix3Xf scan(3, 2 * 41 * 21);
-  scan << wall(5), wall(10);
+  scan << object, wall(10);
   std::vector<std::uint8_t> ground(static_cast<std::size_t>(scan.cols()), 0);
   const auto dyn = free_space_objects(scan, ground, [&](const Eigen::Matrix3Xf& s) { return map.hits_in_free_space(s); }, 0.3);
   EXPECT_EQ(std::count(dyn.begin(), dyn.begin() + 41 * 21, 1), 41 * 21);

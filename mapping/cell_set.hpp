@@ -1,0 +1,70 @@
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <tsl/robin_map.h>
+
+namespace cleanmap {
+
+// A set of OctoMap cells (16-bit keys per axis) for one scan's update: a bitmap per 32^3 tile,
+// tiles found by hash, the last tile cached. Rays and scan rows visit neighbouring cells in a
+// row, so most inserts are one cached bit test; a hash set of keys paid a cache miss each.
+// It also hands the cells back in octree (Morton) order without a sort, which makes the
+// OctoMap updates that follow walk the same branches one after another.
+class CellSet {
+ public:
+  using Key = std::array<std::uint16_t, 3>;
+
+  // True when the cell was not in the set yet.
+  bool insert(const Key& k);
+  bool contains(const Key& k) const;
+  std::size_t size() const { return size_; }
+
+  // Every cell, in octree order (the order of a depth-first walk of the OctoMap).
+  template <typename F>
+  void for_each_in_tree_order(F&& visit) const;
+
+ private:
+  static constexpr int kBits = 5;  // tile edge 32 cells
+  struct Tile {
+    std::uint64_t morton = 0;  // of the tile coordinates: sorts tiles in tree order
+    Key base{};
+    std::array<std::uint64_t, (1u << (3 * kBits)) / 64> bits{};
+  };
+  std::int64_t find(const Key& k) const;  // index in tiles_, -1 when absent
+
+  tsl::robin_map<std::uint64_t, std::uint32_t> index_;  // tile coordinates -> tiles_
+  std::vector<Tile> tiles_;
+  // Cache of the last tile looked up: makes even contains() mutate, so one thread at a time.
+  mutable std::uint64_t last_id_ = ~0ull;
+  mutable std::int64_t last_ = -1;
+  std::size_t size_ = 0;
+};
+
+namespace cell_set_detail {
+std::uint32_t local_morton(const CellSet::Key& k);  // of the low 5 bits of each axis
+CellSet::Key local_cell(std::uint32_t morton);       // inverse
+}  // namespace cell_set_detail
+
+template <typename F>
+void CellSet::for_each_in_tree_order(F&& visit) const {
+  std::vector<std::uint32_t> order(tiles_.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return tiles_[a].morton < tiles_[b].morton; });
+  for (const auto t : order) {
+    const Tile& tile = tiles_[t];
+    for (std::uint32_t w = 0; w < tile.bits.size(); ++w) {
+      for (std::uint64_t word = tile.bits[w]; word != 0; word &= word - 1) {
+        const auto local = cell_set_detail::local_cell(w * 64 + static_cast<std::uint32_t>(__builtin_ctzll(word)));
+        visit(Key{static_cast<std::uint16_t>(tile.base[0] | local[0]), static_cast<std::uint16_t>(tile.base[1] | local[1]),
+                  static_cast<std::uint16_t>(tile.base[2] | local[2])});
+      }
+    }
+  }
+}
+
+}  // namespace cleanmap
