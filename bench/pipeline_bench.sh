@@ -14,10 +14,13 @@ trap 'rm -rf "$work"' EXIT
 /usr/bin/python3 - "$work/run/summary.json" "$work/time.txt" <<'PY'
 import json, re, sys
 s = json.load(open(sys.argv[1]))
-rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", open(sys.argv[2]).read())
+t = open(sys.argv[2]).read()
+rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", t)
+cpu = sum(float(re.search(p + r": ([\d.]+)", t).group(1)) for p in (r"User time \(seconds\)", r"System time \(seconds\)"))
 busy = s["stage_seconds"]
 print(f"scans {s['scans']}, points/scan {s['points'] / s['scans']:.0f}, wall {s['seconds']:.1f} s, "
-      f"{s['scans_per_second']:.2f} scans/s, peak RSS {int(rss.group(1)) / 1024:.0f} MiB" if rss else "")
+      f"{s['scans_per_second']:.2f} scans/s, CPU {1e3 * cpu / s['scans']:.0f} ms/scan (all threads, incl. start-up), "
+      f"peak RSS {int(rss.group(1)) / 1024:.0f} MiB")
 total = sum(busy.values())
 for k, v in sorted(busy.items(), key=lambda kv: -kv[1]):
     print(f"  {k:9s} {1e3 * v / s['scans']:7.1f} ms/scan busy ({100 * v / total:4.1f}% of stage time)")

@@ -1,42 +1,43 @@
 #include "dynamics/ground_segmentation.hpp"
 
 #include <cmath>
-#include <limits>
-#include <unordered_map>
+
+#include <tsl/robin_map.h>
+
+#include "io/voxel_key.hpp"
 
 namespace cleanmap {
-namespace {
-
-std::uint64_t cell_key(std::int32_t x, std::int32_t y) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) |
-         static_cast<std::uint32_t>(y);
-}
-
-}  // namespace
 
 std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, double sensor_z,
                                          double cell, double height) {
   const double inv = 1.0 / cell;
   const auto n = static_cast<std::size_t>(points.cols());
-  std::vector<std::int32_t> cx(n), cy(n);
-  std::unordered_map<std::uint64_t, float> lowest;
-  lowest.reserve(n / 4 + 1);
+  std::vector<VoxelKey> key(n);
+  tsl::robin_map<VoxelKey, float, VoxelKeyHash> lowest;
+  lowest.reserve(n / 16 + 1);
   for (std::size_t i = 0; i < n; ++i) {
     const auto p = points.col(static_cast<Eigen::Index>(i));
-    cx[i] = static_cast<std::int32_t>(std::floor(p.x() * inv));
-    cy[i] = static_cast<std::int32_t>(std::floor(p.y() * inv));
-    auto [it, fresh] = lowest.try_emplace(cell_key(cx[i], cy[i]), p.z());
-    if (!fresh) it->second = std::min(it->second, p.z());
+    key[i] = {static_cast<std::int32_t>(std::floor(p.x() * inv)),
+              static_cast<std::int32_t>(std::floor(p.y() * inv)), 0};
+    auto [it, fresh] = lowest.try_emplace(key[i], p.z());
+    if (!fresh) it.value() = std::min(it->second, p.z());
   }
-  std::vector<std::uint8_t> ground(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    float floor_z = std::numeric_limits<float>::infinity();
+  // The local floor of each cell: the lowest point in it and its 8 neighbours.
+  tsl::robin_map<VoxelKey, float, VoxelKeyHash> floor;
+  floor.reserve(lowest.size());
+  for (const auto& [k, z] : lowest) {
+    float floor_z = z;
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
-        const auto it = lowest.find(cell_key(cx[i] + dx, cy[i] + dy));
+        const auto it = lowest.find(VoxelKey{k.x + dx, k.y + dy, 0});
         if (it != lowest.end()) floor_z = std::min(floor_z, it->second);
       }
     }
+    floor.emplace(k, floor_z);
+  }
+  std::vector<std::uint8_t> ground(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float floor_z = floor.find(key[i])->second;
     const float z = points(2, static_cast<Eigen::Index>(i));
     ground[i] = (floor_z < sensor_z - 0.5 && z - floor_z < height) ? 1 : 0;
   }

@@ -1,6 +1,6 @@
 #include "io/voxel_downsample.hpp"
 
-#include <unordered_set>
+#include <tsl/robin_set.h>
 
 #include "io/voxel_key.hpp"
 
@@ -8,8 +8,8 @@ namespace cleanmap {
 
 std::vector<std::int32_t> voxel_downsample(const Eigen::Matrix3Xf& points, double voxel_size) {
   const double inv = 1.0 / voxel_size;
-  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
-  seen.reserve(static_cast<std::size_t>(points.cols()));
+  tsl::robin_set<VoxelKey, VoxelKeyHash> seen;
+  seen.reserve(static_cast<std::size_t>(points.cols()) / 2);
   std::vector<std::int32_t> keep;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if (seen.insert(voxel_of(points.col(i), inv)).second) keep.push_back(static_cast<std::int32_t>(i));
