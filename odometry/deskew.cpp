@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <limits>
+
 namespace cleanmap {
 
 Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
@@ -41,9 +43,16 @@ Scan transform_per_point(const Scan& scan, const SweepMotion& motion,
     return out;
   }
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, scan.points.cols(), 4096), [&](const auto& r) {
+    // Spinning lidars stamp a whole firing (a column of points) with one time: interpolate a
+    // pose once per distinct time, not once per point.
+    float last_time = std::numeric_limits<float>::quiet_NaN();
+    Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
     for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
-      const Eigen::Isometry3d t = ref_inverse * motion.at(scan.time[i]);
-      out.points.col(i) = (t * scan.points.col(i).cast<double>()).cast<float>();
+      if (scan.time[i] != last_time) {
+        last_time = scan.time[i];
+        t = (ref_inverse * motion.at(last_time)).cast<float>();
+      }
+      out.points.col(i) = t * scan.points.col(i);
     }
   });
   return out;

@@ -5,14 +5,17 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 
 namespace cleanmap {
 namespace {
 
+constexpr double kPlaneReuse = 0.05;  // x map voxel size (5 cm at KISS-ICP's 1 m voxels)
+
 struct PlaneMatch {
-  Eigen::Vector3d point;   // source, sensor frame
-  Eigen::Vector3d normal;  // map plane
-  Eigen::Vector3d centre;  // map plane point
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();   // source, sensor frame
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // map plane
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // map plane point
   double weight = 0.0;     // planarity; 0 = no match
 };
 
@@ -32,14 +35,24 @@ struct PointToPlane {
 
 // Plane of the k map points nearest to T p: normal = least-variance direction; planarity =
 // (l1 - l0) / l2 of the sorted eigenvalues, high for surfaces, low for edges and clutter.
-std::vector<PlaneMatch> match_planes(const std::vector<Eigen::Vector3d>& source,
-                                     const VoxelHashMap& map, const Eigen::Isometry3d& pose,
-                                     double threshold, int k) {
-  std::vector<PlaneMatch> matches(source.size());
+// A point whose plane was fitted at `fitted_at[i]` keeps it while it stays within `reuse` of
+// there: after the first ICP steps the points move by millimetres, and refitting the same
+// neighbours was most of the odometry's time.
+void match_planes(const std::vector<Eigen::Vector3d>& source, const VoxelHashMap& map,
+                  const Eigen::Isometry3d& pose, double threshold, int k, double reuse,
+                  std::vector<PlaneMatch>& matches, std::vector<Eigen::Vector3d>& fitted_at) {
+  if (matches.size() != source.size()) {
+    matches.assign(source.size(), PlaneMatch{});
+    fitted_at.assign(source.size(), Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()));
+  }
+  const double reuse_sq = reuse * reuse;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, source.size(), 256), [&](const auto& r) {
     std::vector<Eigen::Vector3d> nn;
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const Eigen::Vector3d q = pose * source[i];
+      if ((q - fitted_at[i]).squaredNorm() <= reuse_sq) continue;
+      fitted_at[i] = q;
+      matches[i].weight = 0.0;
       map.nearest(q, k, threshold, nn);
       if (static_cast<int>(nn.size()) < std::max(3, k / 2)) continue;
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -55,7 +68,6 @@ std::vector<PlaneMatch> match_planes(const std::vector<Eigen::Vector3d>& source,
       matches[i] = {source[i], eig.eigenvectors().col(0), mean, planarity};
     }
   });
-  return matches;
 }
 
 // Smallest / largest eigenvalue of the point-to-plane information matrix: near zero when some
@@ -88,9 +100,11 @@ RegistrationResult register_point_to_plane(const std::vector<Eigen::Vector3d>& s
   Eigen::Quaterniond q(initial.rotation());
   Eigen::Vector3d t = initial.translation();
   std::vector<PlaneMatch> matches;
+  std::vector<Eigen::Vector3d> fitted_at;
+  const double reuse = kPlaneReuse * map.voxel_size;
   for (int it = 0; it < config.max_icp_iterations; ++it) {
     const Eigen::Isometry3d before = Eigen::Translation3d(t) * q;
-    matches = match_planes(source, map, before, threshold, config.normal_neighbors);
+    match_planes(source, map, before, threshold, config.normal_neighbors, reuse, matches, fitted_at);
     ceres::Problem::Options po;
     po.enable_fast_removal = false;
     ceres::Problem problem(po);
