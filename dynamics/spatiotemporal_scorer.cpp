@@ -29,6 +29,7 @@ using CellMap = tsl::robin_map<VoxelKey, Moments4, VoxelKeyHash>;
 struct WindowScan {
   std::size_t index = 0;
   Scan full;                         // kept only until the scan itself is scored
+  std::vector<std::int32_t> owner;   // per full point: its voxel's downsampled point
   double voxel = 0.0;
   Eigen::Matrix3Xf points;           // downsampled, world frame
   Eigen::VectorXd time;              // seconds since the first scan's stamp
@@ -135,7 +136,9 @@ struct SpatiotemporalScorer::Impl {
     w.voxel = cfg.voxel_size > 0 ? cfg.voxel_size
                                  : bounding_box_diagonal(scan.points) / cfg.voxel_divisor;
     if (!(w.voxel > 0)) w.voxel = 0.01;  // empty or single-point scan
-    const auto keep = voxel_downsample(scan.points, w.voxel);
+    auto voxels = voxel_downsample_with_owners(scan.points, w.voxel);
+    const auto& keep = voxels.keep;
+    w.owner = std::move(voxels.owner);
     const auto n = static_cast<Eigen::Index>(keep.size());
     w.points.resize(3, n);
     w.time.resize(n);
@@ -249,7 +252,8 @@ struct SpatiotemporalScorer::Impl {
     }
     if (cfg.object_completion) complete_objects(w, d);
     for (auto v : d.dynamic) out.dynamic_downsampled += v;
-    auto full = upsample_scores(w.full.points, w.points, d, cfg.upsample, cfg.upsample_radius);
+    auto full = upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius);
+    w.owner = {};
     out.score = std::move(full.score);
     out.dynamic = std::move(full.dynamic);
     out.scans_before = static_cast<int>(index - window.front().index);

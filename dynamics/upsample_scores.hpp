@@ -12,11 +12,13 @@ struct PointDecisions {
   std::vector<std::uint8_t> dynamic;  // 1 = dynamic
 };
 
-// Carries decisions of downsampled points to full-resolution points.
+// Carries decisions of downsampled points to full-resolution points. `owner[i]`: the
+// downsampled point standing for full point i's voxel (voxel_downsample_with_owners).
 // "nearest": each point takes score and decision of its nearest downsampled point within
 // `radius` (else unscored). "paper" (Falque et al.): a point is dynamic when any dynamic
-// downsampled point lies within `radius`; its score is still its nearest neighbour's.
+// downsampled point lies within `radius`; its score is its voxel's (the owner's).
 PointDecisions upsample_scores(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
+                               const std::vector<std::int32_t>& owner,
                                const PointDecisions& down_decisions, const std::string& method,
                                double radius);
 

@@ -1,5 +1,6 @@
 #include "io/voxel_downsample.hpp"
 
+#include <tsl/robin_map.h>
 #include <tsl/robin_set.h>
 
 #include "io/voxel_key.hpp"
@@ -15,6 +16,20 @@ std::vector<std::int32_t> voxel_downsample(const Eigen::Matrix3Xf& points, doubl
     if (seen.insert(voxel_of(points.col(i), inv)).second) keep.push_back(static_cast<std::int32_t>(i));
   }
   return keep;
+}
+
+VoxelSample voxel_downsample_with_owners(const Eigen::Matrix3Xf& points, double voxel_size) {
+  const double inv = 1.0 / voxel_size;
+  tsl::robin_map<VoxelKey, std::int32_t, VoxelKeyHash> slot;
+  slot.reserve(static_cast<std::size_t>(points.cols()) / 2);
+  VoxelSample out;
+  out.owner.resize(static_cast<std::size_t>(points.cols()));
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const auto [it, fresh] = slot.try_emplace(voxel_of(points.col(i), inv), static_cast<std::int32_t>(out.keep.size()));
+    if (fresh) out.keep.push_back(static_cast<std::int32_t>(i));
+    out.owner[static_cast<std::size_t>(i)] = it->second;
+  }
+  return out;
 }
 
 double bounding_box_diagonal(const Eigen::Matrix3Xf& points) {
