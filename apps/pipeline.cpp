@@ -105,9 +105,12 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     Scan& scan = r.scan;
     if (cfg.mapping.free_space) {
       const double sensor_z = scan.pose->translation().z();
-      const auto ground = segment_ground(scan.points, sensor_z, cfg.scorer.ground_cell, cfg.scorer.ground_height);
       const auto objects = free_space_objects(
-          scan.points, ground, [&](const Eigen::Matrix3Xf& sub) { return octo->hits_in_free_space(sub); },
+          scan.points,
+          [&](const Eigen::Matrix3Xf& sub) {
+            return segment_ground(sub, sensor_z, cfg.scorer.ground_cell, cfg.scorer.ground_height);
+          },
+          [&](const Eigen::Matrix3Xf& sub) { return octo->hits_in_free_space(sub); },
           cfg.mapping.free_space_fraction);
       for (std::size_t i = 0; i < scan.size(); ++i) {
         if (objects[i] && !r.dynamic[i]) {

@@ -83,9 +83,9 @@ void free_space_opinion(benchmark::State& state) {
     OctoMapBuilder map(MapConfig{});
     for (const auto& s : scans) {
       const auto t = std::chrono::steady_clock::now();
-      const auto ground = segment_ground(s.all, s.origin.z(), 1.0, 0.25);
       const auto objects = free_space_objects(
-          s.all, ground, [&](const Eigen::Matrix3Xf& sub) { return map.hits_in_free_space(sub); }, 0.3);
+          s.all, [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, s.origin.z(), 1.0, 0.25); },
+          [&](const Eigen::Matrix3Xf& sub) { return map.hits_in_free_space(sub); }, 0.3);
       per_scan.push_back(seconds_since(t));
       for (auto o : objects) flagged += o;
       map.insert(s.points, s.origin);
