@@ -9,7 +9,7 @@ void PointCloudMap::add(const Scan& scan, const std::vector<std::uint8_t>& keep,
   for (Eigen::Index i = 0; i < scan.points.cols(); ++i) {
     if (!keep[static_cast<std::size_t>(i)]) continue;
     const auto p = scan.points.col(i);
-    if (voxel_ > 0 && !seen_.insert(voxel_of(p, inv)).second) continue;
+    if (voxel_ > 0 && !seen_.insert(voxel_of(p, inv))) continue;
     x_.push_back(p.x());
     y_.push_back(p.y());
     z_.push_back(p.z());
