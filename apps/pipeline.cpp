@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -97,6 +98,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   Progress progress(opt.command, seq.size());
 
   std::mutex odom_mutex;  // the pipeline's first stage registers, its last feeds dynamics back
+  std::vector<Clock::time_point> finished_at;  // when each scan's outputs were written
   double mapping_s = 0, write_s = 0;
   // Pipeline stage 3: the occupancy opinion, then the static points into the map.
   auto map_scan = [&](ScoredScan& r) {
@@ -187,6 +189,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     dynamic_points += n_dyn;
     unscored += n_unscored;
     per_scan.push_back(js);
+    finished_at.push_back(Clock::now());
     write_s += since(t);
   };
 
@@ -297,6 +300,15 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   summary["seconds"] = seconds;
   summary["scans_per_second"] = seconds > 0 ? static_cast<double>(seq.size()) / seconds : 0.0;
   summary["stage_seconds"] = stage_seconds;
+  // The rate a live sensor would see: scans leaving the pipeline per second in the steady
+  // state, from the first scan scored to the last scored before the end of the log (the
+  // last N come out at once when the log ends), without the final map writing.
+  const std::size_t tail = std::min<std::size_t>(static_cast<std::size_t>(cfg.scorer.window_half), finished_at.size());
+  if (finished_at.size() >= tail + 2) {
+    const std::size_t last = finished_at.size() - 1 - tail;
+    const double span = std::chrono::duration<double>(finished_at[last] - finished_at[0]).count();
+    summary["sustained_scans_per_second"] = span > 0 ? static_cast<double>(last) / span : 0.0;
+  }
   summary["per_scan"] = per_scan;
   if (seq.has_labels()) summary["moving"] = metrics_json(total);
   write_summary(opt.out, summary, true);

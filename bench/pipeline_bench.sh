@@ -22,7 +22,7 @@ rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", t)
 cpu = sum(float(re.search(p + r": ([\d.]+)", t).group(1)) for p in (r"User time \(seconds\)", r"System time \(seconds\)"))
 busy = s["stage_seconds"]
 print(f"scans {s['scans']}, points/scan {s['points'] / s['scans']:.0f}, wall {s['seconds']:.1f} s, "
-      f"{s['scans_per_second']:.2f} scans/s, CPU {1e3 * cpu / s['scans']:.0f} ms/scan (all threads, incl. start-up), "
+      f"{s['scans_per_second']:.2f} scans/s overall, {s['sustained_scans_per_second']:.2f} sustained (steady state), CPU {1e3 * cpu / s['scans']:.0f} ms/scan (all threads, incl. start-up), "
       f"peak RSS {int(rss.group(1)) / 1024:.0f} MiB")
 total = sum(busy.values())
 for k, v in sorted(busy.items(), key=lambda kv: -kv[1]):

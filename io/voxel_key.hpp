@@ -38,4 +38,25 @@ struct VoxelKeyHash {
   }
 };
 
+// Morton (Z-order) interleave of three 21-bit values, x in the lowest bit: sorting by it
+// visits space block by block, as a depth-first walk of an octree does.
+inline std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+inline std::uint64_t morton_code(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+  return spread_bits(z) << 2 | spread_bits(y) << 1 | spread_bits(x);
+}
+// Of a voxel: coordinates offset by 2^20, so that the order holds across zero.
+inline std::uint64_t morton_code(const VoxelKey& k) {
+  constexpr std::int64_t kOffset = 1 << 20;
+  return morton_code(static_cast<std::uint64_t>(k.x + kOffset), static_cast<std::uint64_t>(k.y + kOffset),
+                     static_cast<std::uint64_t>(k.z + kOffset));
+}
+
 }  // namespace cleanmap

@@ -1,20 +1,11 @@
 #include "mapping/cell_set.hpp"
 
+#include "io/voxel_key.hpp"
+
 namespace cleanmap {
 namespace {
 
 constexpr std::uint16_t kLow = (1u << 5) - 1;
-
-// Bits of v spread to every third position (the Morton interleave of one axis).
-std::uint64_t spread(std::uint64_t v) {
-  v &= 0x1FFFFF;
-  v = (v | v << 32) & 0x1F00000000FFFFull;
-  v = (v | v << 16) & 0x1F0000FF0000FFull;
-  v = (v | v << 8) & 0x100F00F00F00F00Full;
-  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 std::uint64_t compact(std::uint64_t v) {
   v &= 0x1249249249249249ull;
@@ -26,12 +17,6 @@ std::uint64_t compact(std::uint64_t v) {
   return v;
 }
 
-// Axis order x, y, z from the most significant bit, as OctoMap's child index (x is bit 0 of
-// the child index, so x varies fastest): z << 2 | y << 1 | x.
-std::uint64_t morton(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
-  return spread(z) << 2 | spread(y) << 1 | spread(x);
-}
-
 std::uint64_t tile_id(const CellSet::Key& k) {
   return static_cast<std::uint64_t>(k[0] >> 5) << 22 | static_cast<std::uint64_t>(k[1] >> 5) << 11 | (k[2] >> 5);
 }
@@ -40,7 +25,7 @@ std::uint64_t tile_id(const CellSet::Key& k) {
 
 namespace cell_set_detail {
 std::uint32_t local_morton(const CellSet::Key& k) {
-  return static_cast<std::uint32_t>(morton(k[0] & kLow, k[1] & kLow, k[2] & kLow));
+  return static_cast<std::uint32_t>(morton_code(k[0] & kLow, k[1] & kLow, k[2] & kLow));
 }
 CellSet::Key local_cell(std::uint32_t m) {
   return {static_cast<std::uint16_t>(compact(m)), static_cast<std::uint16_t>(compact(m >> 1)),
@@ -65,7 +50,7 @@ bool CellSet::insert(const Key& k) {
     Tile tile;
     tile.base = {static_cast<std::uint16_t>(k[0] & ~kLow), static_cast<std::uint16_t>(k[1] & ~kLow),
                  static_cast<std::uint16_t>(k[2] & ~kLow)};
-    tile.morton = morton(k[0] >> 5, k[1] >> 5, k[2] >> 5);
+    tile.morton = morton_code(k[0] >> 5, k[1] >> 5, k[2] >> 5);
     t = static_cast<std::int64_t>(tiles_.size());
     tiles_.push_back(tile);
     index_.emplace(tile_id(k), static_cast<std::uint32_t>(t));
