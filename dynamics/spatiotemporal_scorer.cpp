@@ -25,6 +25,45 @@ namespace {
 // chasing costs twice as much.
 using CellMap = tsl::robin_map<VoxelKey, Moments4, VoxelKeyHash>;
 
+// The window's cell statistics: a compact cell -> slot table in front of an array of moments.
+// A query probes up to 27 cells, many of them empty space; with the 168-byte moments stored
+// in the buckets themselves the table grew past 100 MB and nearly every probe missed memory.
+struct CellTable {
+  tsl::robin_map<VoxelKey, std::uint32_t, VoxelKeyHash> slot;
+  std::vector<Moments4> moments;
+  std::vector<std::uint32_t> unused;  // slots of emptied cells, reused first
+
+  const Moments4* find(const VoxelKey& k) const {
+    const auto it = slot.find(k);
+    return it == slot.end() ? nullptr : &moments[it->second];
+  }
+  void add(const VoxelKey& k, const Moments4& m) {
+    const auto [it, fresh] = slot.try_emplace(k, 0u);
+    if (!fresh) {
+      moments[it->second] += m;
+    } else if (unused.empty()) {
+      it.value() = static_cast<std::uint32_t>(moments.size());
+      moments.push_back(m);
+    } else {
+      it.value() = unused.back();
+      unused.pop_back();
+      moments[it->second] = m;
+    }
+  }
+  void subtract(const VoxelKey& k, const Moments4& m) {
+    const auto it = slot.find(k);
+    if (it == slot.end()) return;
+    Moments4& c = moments[it->second];
+    c -= m;
+    // Dropping emptied cells also resets their rounding residue.
+    if (c.n < 0.5) {
+      unused.push_back(it->second);
+      slot.erase(it);
+    }
+  }
+  std::size_t size() const { return slot.size(); }
+};
+
 // A scan in the window, reduced to what its neighbours need.
 struct WindowScan {
   std::size_t index = 0;
@@ -64,7 +103,7 @@ struct SpatiotemporalScorer::Impl {
   ScorerConfig cfg;
   double cell = 0.0;
   std::vector<VoxelKey> offsets;  // cells that can hold points within `radius` of a query
-  std::array<CellMap, 2> cells;   // fast mode statistics, by ground class
+  std::array<CellTable, 2> cells;  // fast mode statistics, by ground class
   std::deque<WindowScan> window;
   std::size_t pushed = 0;
   std::size_t scored = 0;  // scans [0, scored) have been returned
@@ -113,19 +152,14 @@ struct SpatiotemporalScorer::Impl {
   void add_cells(const WindowScan& w) {
     const auto own = scan_cells(w);
     for (int g = 0; g < 2; ++g) {
-      for (const auto& [key, m] : own[g]) cells[g][key] += m;
+      for (const auto& [key, m] : own[g]) cells[g].add(key, m);
     }
   }
 
   void remove_cells(const WindowScan& w) {
     const auto own = scan_cells(w);
     for (int g = 0; g < 2; ++g) {
-      for (const auto& [key, m] : own[g]) {
-        auto it = cells[g].find(key);
-        it.value() -= m;
-        // Dropping emptied cells also resets their rounding residue.
-        if (it->second.n < 0.5) cells[g].erase(it);
-      }
+      for (const auto& [key, m] : own[g]) cells[g].subtract(key, m);
     }
   }
 
@@ -172,9 +206,9 @@ struct SpatiotemporalScorer::Impl {
       }
       if (gap_sq > r_cells_sq) continue;
       const VoxelKey key{centre.x + off.x, centre.y + off.y, centre.z + off.z};
-      const auto it = map.find(key);
-      if (it == map.end()) continue;
-      const Moments4& c = it->second;
+      const Moments4* found = map.find(key);
+      if (!found) continue;
+      const Moments4& c = *found;
       const Eigen::Vector4d origin = cell_origin(key);
       // A cell takes part when the mean of its points lies within the radius.
       const Eigen::Vector3d mean = origin.head<3>() + c.sum.head<3>() / c.n;
@@ -322,10 +356,10 @@ double SpatiotemporalScorer::fast_statistics_drift() const {
   for (int g = 0; g < 2; ++g) {
     if (fresh[g].size() != s.cells[g].size()) return std::numeric_limits<double>::infinity();
     for (const auto& [key, m] : fresh[g]) {
-      const auto it = s.cells[g].find(key);
-      if (it == s.cells[g].end()) return std::numeric_limits<double>::infinity();
-      drift = std::max({drift, std::abs(m.n - it->second.n), (m.sum - it->second.sum).cwiseAbs().maxCoeff(),
-                        (m.sum_sq - it->second.sum_sq).cwiseAbs().maxCoeff()});
+      const Moments4* kept = s.cells[g].find(key);
+      if (!kept) return std::numeric_limits<double>::infinity();
+      drift = std::max({drift, std::abs(m.n - kept->n), (m.sum - kept->sum).cwiseAbs().maxCoeff(),
+                        (m.sum_sq - kept->sum_sq).cwiseAbs().maxCoeff()});
     }
   }
   return drift;
