@@ -1,5 +1,7 @@
 #include "io/voxel_downsample.hpp"
 
+#include <climits>
+
 #include <tsl/robin_map.h>
 #include <tsl/robin_set.h>
 
@@ -12,8 +14,14 @@ std::vector<std::int32_t> voxel_downsample(const Eigen::Matrix3Xf& points, doubl
   tsl::robin_set<VoxelKey, VoxelKeyHash> seen;
   seen.reserve(static_cast<std::size_t>(points.cols()) / 2);
   std::vector<std::int32_t> keep;
+  // Scans come in firing or ring order: neighbours in the array often share a voxel, and a
+  // comparison with the last voxel is much cheaper than a hash probe.
+  VoxelKey last{INT32_MIN, INT32_MIN, INT32_MIN};
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if (seen.insert(voxel_of(points.col(i), inv)).second) keep.push_back(static_cast<std::int32_t>(i));
+    const VoxelKey v = voxel_of(points.col(i), inv);
+    if (v == last) continue;
+    last = v;
+    if (seen.insert(v).second) keep.push_back(static_cast<std::int32_t>(i));
   }
   return keep;
 }
@@ -24,10 +32,17 @@ VoxelSample voxel_downsample_with_owners(const Eigen::Matrix3Xf& points, double 
   slot.reserve(static_cast<std::size_t>(points.cols()) / 2);
   VoxelSample out;
   out.owner.resize(static_cast<std::size_t>(points.cols()));
+  VoxelKey last{INT32_MIN, INT32_MIN, INT32_MIN};
+  std::int32_t last_owner = -1;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    const auto [it, fresh] = slot.try_emplace(voxel_of(points.col(i), inv), static_cast<std::int32_t>(out.keep.size()));
-    if (fresh) out.keep.push_back(static_cast<std::int32_t>(i));
-    out.owner[static_cast<std::size_t>(i)] = it->second;
+    const VoxelKey v = voxel_of(points.col(i), inv);
+    if (!(v == last)) {
+      const auto [it, fresh] = slot.try_emplace(v, static_cast<std::int32_t>(out.keep.size()));
+      if (fresh) out.keep.push_back(static_cast<std::int32_t>(i));
+      last = v;
+      last_owner = it->second;
+    }
+    out.owner[static_cast<std::size_t>(i)] = last_owner;
   }
   return out;
 }

@@ -79,7 +79,11 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   step.points = pre.size();
 
   const auto frame = downsample(pre.points, 0.5 * config_.map_voxel_size);
-  const auto source = downsample(pre.points, config_.registration_voxel * config_.map_voxel_size);
+  // The registered points: the frame downsampled again (a quarter of the work of another pass
+  // over the whole scan).
+  Eigen::Matrix3Xf frame_points(3, static_cast<Eigen::Index>(frame.size()));
+  for (std::size_t k = 0; k < frame.size(); ++k) frame_points.col(static_cast<Eigen::Index>(k)) = frame[k].cast<float>();
+  const auto source = downsample(frame_points, config_.registration_voxel * config_.map_voxel_size);
   step.threshold = threshold_.value();
   step.pose = prediction;
   if (static_cast<int>(pre.size()) < config_.min_points) {
