@@ -197,6 +197,11 @@ struct SpatiotemporalScorer::Impl {
     // Where the query sits in its cell, in cells: skip cells whose box is beyond the radius.
     const Eigen::Vector3d frac = q.head<3>() / cell - Eigen::Vector3d(centre.x, centre.y, centre.z);
     const double r_cells_sq = r_sq / (cell * cell);
+    // Two passes: find the cells first and prefetch their moments, so that their memory
+    // misses overlap instead of following one another.
+    thread_local std::vector<std::pair<VoxelKey, const Moments4*>> near;
+    near.resize(offsets.size());  // 27 with the default cell size; more with smaller cells
+    std::size_t found = 0;
     for (const auto& off : offsets) {
       double gap_sq = 0.0;
       for (int d = 0; d < 3; ++d) {
@@ -206,10 +211,16 @@ struct SpatiotemporalScorer::Impl {
       }
       if (gap_sq > r_cells_sq) continue;
       const VoxelKey key{centre.x + off.x, centre.y + off.y, centre.z + off.z};
-      const Moments4* found = map.find(key);
-      if (!found) continue;
-      const Moments4& c = *found;
-      const Eigen::Vector4d origin = cell_origin(key);
+      const Moments4* c = map.find(key);
+      if (!c) continue;
+      __builtin_prefetch(c);
+      __builtin_prefetch(reinterpret_cast<const char*>(c) + 64);
+      __builtin_prefetch(reinterpret_cast<const char*>(c) + 128);
+      near[found++] = {key, c};
+    }
+    for (std::size_t k = 0; k < found; ++k) {
+      const Moments4& c = *near[k].second;
+      const Eigen::Vector4d origin = cell_origin(near[k].first);
       // A cell takes part when the mean of its points lies within the radius.
       const Eigen::Vector3d mean = origin.head<3>() + c.sum.head<3>() / c.n;
       if ((mean - q.head<3>()).squaredNorm() > r_sq) continue;

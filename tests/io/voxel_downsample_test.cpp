@@ -43,7 +43,7 @@ TEST(VoxelDownsample, KeepsTheFirstPointOfEachVoxelAndKnowsEveryPointsOwner) {
   }
 }
 
-TEST(VoxelDownsample, VoxelsTooManyToPackFallBackToHashing) {
+TEST(VoxelDownsample, HugeExtentsAtAFineVoxel) {
   // 4e5 m across at 1 mm: 29 bits per axis, more than one 64-bit key holds.
   auto points = random_cloud(2000, 2e5f, 5);
   points.row(2) *= 10.0f;
