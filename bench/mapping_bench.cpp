@@ -12,6 +12,7 @@
 #include "io/synthetic_lidar.hpp"
 #include "mapping/free_space_vote.hpp"
 #include "mapping/octomap_builder.hpp"
+#include "mapping/point_cloud_map.hpp"
 #include "odometry/deskew.hpp"
 
 namespace cleanmap {
@@ -95,6 +96,29 @@ void free_space_opinion(benchmark::State& state) {
   bench::report_latency(state, per_scan);
 }
 
+// The static map cloud (5 cm voxel filter, raw points kept) growing scan by scan.
+void static_cloud(benchmark::State& state) {
+  const auto& scans = os1_stream();
+  std::vector<double> per_scan;
+  std::size_t points = 0;
+  for (auto _ : state) {
+    PointCloudMap cloud(0.05);
+    for (const auto& s : scans) {
+      Scan scan;
+      scan.points = s.points;
+      const std::vector<std::uint8_t> keep(static_cast<std::size_t>(s.points.cols()), 1);
+      const std::vector<float> score(keep.size(), 0.0f);
+      const auto t = std::chrono::steady_clock::now();
+      cloud.add(scan, keep, score, 0);
+      per_scan.push_back(seconds_since(t));
+    }
+    points = cloud.size();
+  }
+  state.counters["map_points"] = static_cast<double>(points);
+  bench::report_latency(state, per_scan);
+}
+
+BENCHMARK(static_cloud)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(octomap_insert)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(free_space_opinion)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1);
 

@@ -139,12 +139,18 @@ struct SpatiotemporalScorer::Impl {
   }
 
   // Per-cell statistics of one scan, relative to each cell's centre.
-  std::array<CellMap, 2> scan_cells(const WindowScan& w) const {
-    std::array<CellMap, 2> out;
+  // Per-cell statistics of one scan, relative to each cell's centre, by ground class.
+  using ScanCells = std::vector<std::pair<VoxelKey, Moments4>>;
+  std::array<ScanCells, 2> scan_cells(const WindowScan& w) const {
+    std::array<ScanCells, 2> out;
+    std::array<tsl::robin_map<VoxelKey, std::uint32_t, VoxelKeyHash>, 2> slot;
     const double inv = 1.0 / cell;
     for (Eigen::Index i = 0; i < w.points.cols(); ++i) {
       const auto key = voxel_of(w.points.col(i), inv);
-      out[w.ground[i]][key].add(sample(w, i) - cell_origin(key));
+      const auto g = w.ground[static_cast<std::size_t>(i)];
+      const auto [it, fresh] = slot[g].try_emplace(key, static_cast<std::uint32_t>(out[g].size()));
+      if (fresh) out[g].emplace_back(key, Moments4{});
+      out[g][it->second].second.add(sample(w, i) - cell_origin(key));
     }
     return out;
   }
