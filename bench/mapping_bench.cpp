@@ -28,14 +28,9 @@ const std::vector<StaticScan>& os1_stream() {
   static const std::vector<StaticScan> scans = [] {
     LidarModel lidar;  // 64 x 2048
     const auto world = make_street_world(7);
-    std::vector<Scan> raw;
-    std::vector<std::vector<std::uint32_t>> labels;
-    for (std::size_t i = 0; i < 30; ++i) {
-      auto s = simulate_scan(world, lidar, i, 7);
-      raw.push_back(std::move(s.scan));
-      labels.push_back(std::move(s.labels));
-    }
-    const auto worlds = to_world(raw);
+    const auto sim = simulate_sequence(world, lidar, 30, 7);
+    const auto& labels = sim.labels;
+    const auto worlds = to_world(sim.scans);
     std::vector<StaticScan> out;
     for (std::size_t k = 0; k < worlds.size(); ++k) {
       const Scan& w = worlds[k];

@@ -17,9 +17,7 @@ const std::vector<Scan>& os1_stream() {
   static const std::vector<Scan> scans = [] {
     LidarModel lidar;  // 64 x 2048
     const auto world = make_street_world(7);
-    std::vector<Scan> raw;
-    for (std::size_t i = 0; i < 41; ++i) raw.push_back(simulate_scan(world, lidar, i, 7).scan);
-    return to_world(raw);
+    return to_world(simulate_sequence(world, lidar, 41, 7).scans);
   }();
   return scans;
 }

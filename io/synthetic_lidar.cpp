@@ -222,4 +222,15 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
   return out;
 }
 
+SyntheticSequence simulate_sequence(const SyntheticWorld& world, const LidarModel& lidar,
+                                    std::size_t count, std::uint64_t seed) {
+  SyntheticSequence out;
+  for (std::size_t i = 0; i < count; ++i) {
+    auto s = simulate_scan(world, lidar, i, seed);
+    out.scans.push_back(std::move(s.scan));
+    out.labels.push_back(std::move(s.labels));
+  }
+  return out;
+}
+
 }  // namespace cleanmap

@@ -66,4 +66,12 @@ Eigen::Isometry3d sensor_pose(const SyntheticWorld& world, double t);
 SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar,
                             std::size_t index, std::uint64_t seed);
 
+// Scans 0 .. count-1 of that sequence, their labels alongside.
+struct SyntheticSequence {
+  std::vector<Scan> scans;
+  std::vector<std::vector<std::uint32_t>> labels;
+};
+SyntheticSequence simulate_sequence(const SyntheticWorld& world, const LidarModel& lidar,
+                                    std::size_t count, std::uint64_t seed);
+
 }  // namespace cleanmap

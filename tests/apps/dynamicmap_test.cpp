@@ -22,13 +22,9 @@ TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
   LidarModel lidar;
   lidar.columns = 1024;
   const auto world = make_street_world(4);
-  std::vector<Scan> raw;
-  std::vector<std::vector<std::uint32_t>> labels;
-  for (std::size_t i = 0; i < 16; ++i) {
-    auto sim = simulate_scan(world, lidar, i, 4);
-    raw.push_back(std::move(sim.scan));
-    labels.push_back(std::move(sim.labels));
-  }
+  const auto sim = simulate_sequence(world, lidar, 16, 4);
+  const auto& raw = sim.scans;
+  const auto& labels = sim.labels;
   std::vector<Eigen::Vector3f> gt_points;
   std::vector<float> gt_dynamic;
   auto placed = to_world(raw);

@@ -23,13 +23,9 @@ const Scene& street() {
     LidarModel lidar;
     lidar.columns = 1024;
     const auto world = make_street_world(1);
-    std::vector<Scan> raw;
-    for (std::size_t i = 0; i < 21; ++i) {
-      auto sim = simulate_scan(world, lidar, i, 1);
-      raw.push_back(std::move(sim.scan));
-      s.labels.push_back(std::move(sim.labels));
-    }
-    s.world_scans = to_world(raw);
+    auto sim = simulate_sequence(world, lidar, 21, 1);
+    s.labels = std::move(sim.labels);
+    s.world_scans = to_world(sim.scans);
     return s;
   }();
   return scene;
