@@ -12,7 +12,7 @@ namespace cleanmap {
 std::vector<std::int32_t> voxel_downsample(const Eigen::Matrix3Xf& points, double voxel_size) {
   const double inv = 1.0 / voxel_size;
   tsl::robin_set<VoxelKey, VoxelKeyHash> seen;
-  seen.reserve(static_cast<std::size_t>(points.cols()) / 2);
+  seen.reserve(static_cast<std::size_t>(points.cols()) / 8);
   std::vector<std::int32_t> keep;
   // Scans come in firing or ring order: neighbours in the array often share a voxel, and a
   // comparison with the last voxel is much cheaper than a hash probe.
@@ -29,7 +29,7 @@ std::vector<std::int32_t> voxel_downsample(const Eigen::Matrix3Xf& points, doubl
 VoxelSample voxel_downsample_with_owners(const Eigen::Matrix3Xf& points, double voxel_size) {
   const double inv = 1.0 / voxel_size;
   tsl::robin_map<VoxelKey, std::int32_t, VoxelKeyHash> slot;
-  slot.reserve(static_cast<std::size_t>(points.cols()) / 2);
+  slot.reserve(static_cast<std::size_t>(points.cols()) / 8);
   VoxelSample out;
   out.owner.resize(static_cast<std::size_t>(points.cols()));
   VoxelKey last{INT32_MIN, INT32_MIN, INT32_MIN};

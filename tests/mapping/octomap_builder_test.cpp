@@ -52,6 +52,24 @@ TEST(OctoMapBuilder, CarvesFreeSpaceAndMarksHitsAndWritesReadableMaps) {
   EXPECT_TRUE(std::filesystem::exists(dir / "grid.yaml"));
 }
 
+TEST(OctoMapBuilder, RepeatedUpdatesClampAsOctoMapDoes) {
+  const MapConfig config;
+  OctoMapBuilder map(config);
+  const auto& tree = map.tree();
+  for (int k = 0; k < 30; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
+  const auto* hit = tree.search(10.0, 0.0, 0.0);
+  const auto* free = tree.search(5.0, 0.0, 0.0);
+  ASSERT_NE(hit, nullptr);
+  ASSERT_NE(free, nullptr);
+  EXPECT_FLOAT_EQ(hit->getLogOdds(), octomap::logodds(config.clamp_max));
+  EXPECT_FLOAT_EQ(free->getLogOdds(), octomap::logodds(config.clamp_min));
+  // One hit on a fresh map: exactly the hit log-odds, as octomap's updateNode gives.
+  OctoMapBuilder once(config);
+  once.insert(wall(10), Eigen::Vector3d::Zero());
+  EXPECT_FLOAT_EQ(once.tree().search(10.0, 0.0, 0.0)->getLogOdds(), octomap::logodds(config.prob_hit));
+  EXPECT_FLOAT_EQ(once.tree().search(5.0, 0.0, 0.0)->getLogOdds(), octomap::logodds(config.prob_miss));
+}
+
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
   OctoMapBuilder map(MapConfig{});
   for (int k = 0; k < 6; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
