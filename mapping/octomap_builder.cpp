@@ -119,7 +119,11 @@ std::vector<std::uint8_t> OctoMapBuilder::hits_in_free_space(const Eigen::Matrix
 
 void OctoMapBuilder::write_binary(const std::filesystem::path& file) {
   tree_->updateInnerOccupancy();
-  if (!tree_->writeBinary(file.string())) fail(file, "cannot write OctoMap");
+  // Not OcTree::writeBinary: it turns the map itself into maximum likelihood first, and a .ot
+  // written afterwards lost its probabilities. Pruning alone is lossless (it merges children
+  // with equal values, as the clamped ones are).
+  tree_->prune();
+  if (!tree_->writeBinaryConst(file.string())) fail(file, "cannot write OctoMap");
 }
 
 void OctoMapBuilder::write_full(const std::filesystem::path& file) {

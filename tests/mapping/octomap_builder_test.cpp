@@ -52,6 +52,20 @@ TEST(OctoMapBuilder, CarvesFreeSpaceAndMarksHitsAndWritesReadableMaps) {
   EXPECT_TRUE(std::filesystem::exists(dir / "grid.yaml"));
 }
 
+TEST(OctoMapBuilder, FullMapKeepsProbabilitiesWhenWrittenAfterTheBinaryOne) {
+  test::TempDir dir;
+  OctoMapBuilder map(MapConfig{});
+  map.insert(wall(10), Eigen::Vector3d::Zero());  // one hit: far from the clamping bounds
+  map.write_binary(dir / "map.bt");
+  map.write_full(dir / "map.ot");
+  std::unique_ptr<octomap::AbstractOcTree> full(octomap::AbstractOcTree::read((dir / "map.ot").string()));
+  ASSERT_NE(full, nullptr);
+  const auto* kept = static_cast<octomap::OcTree*>(full.get())->search(10.0, 0.0, 0.0);
+  ASSERT_NE(kept, nullptr);
+  EXPECT_FLOAT_EQ(kept->getLogOdds(), octomap::logodds(MapConfig{}.prob_hit));
+  EXPECT_FLOAT_EQ(map.tree().search(10.0, 0.0, 0.0)->getLogOdds(), octomap::logodds(MapConfig{}.prob_hit));
+}
+
 TEST(OctoMapBuilder, RepeatedUpdatesClampAsOctoMapDoes) {
   const MapConfig config;
   OctoMapBuilder map(config);
