@@ -14,6 +14,7 @@
 namespace cleanmap::test {
 
 inline std::filesystem::path shared_data() { return CLEANMAP_SHARED_DATA; }
+inline std::filesystem::path source_dir() { return CLEANMAP_SOURCE_DIR; }
 
 // A fresh folder under the system temp dir, removed at scope exit.
 struct TempDir {

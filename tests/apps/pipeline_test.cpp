@@ -72,6 +72,35 @@ TEST(Pipeline, TruncatedScanStopsWithOneLineAndAnIncompleteSummary) {
   EXPECT_NE(summary["error"].get<std::string>().find("000001.bin"), std::string::npos);
 }
 
+// The real busy street (Hesai Pandar64, 30 scans of 216k points, moving traffic boxed):
+// odometry -> scorer -> OctoMap through the command line with its preset, then scored against
+// the boxes. Measured: 0.52 M of 6.47 M points removed, IoU 0.23, precision 0.45, recall 0.33.
+TEST(Pipeline, RealStreetRunsEndToEndAndFindsTheTraffic) {
+  const auto data = test::shared_data() / "pandar64_street";
+  if (!std::filesystem::exists(data)) GTEST_SKIP() << "no " << data;
+  test::TempDir dir;
+  std::string out;
+  ASSERT_EQ(run_cleanmap("run --input " + data.string() + " --config " +
+                             (test::source_dir() / "config" / "pandar64.yaml").string() + " --out " +
+                             (dir / "run").string(), &out), 0) << out;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "run" / "summary.json"));
+  ASSERT_TRUE(summary["complete"].get<bool>());
+  EXPECT_EQ(summary["scans"].get<int>(), 30);
+  const double removed = summary["dynamic_points"].get<double>() / summary["points"].get<double>();
+  EXPECT_GT(removed, 0.02);
+  EXPECT_LT(removed, 0.2);
+  octomap::OcTree map(0.1);
+  ASSERT_TRUE(map.readBinary((dir / "run" / "map.bt").string()));
+  EXPECT_GT(map.getNumLeafNodes(), 10000u);
+  ASSERT_EQ(run_cleanmap("eval dynamic --pred " + (dir / "run").string() + " --gt " + data.string() +
+                             " --poses " + (dir / "run" / "poses.txt").string() + " --json " +
+                             (dir / "eval.json").string(), &out), 0) << out;
+  const auto eval = nlohmann::json::parse(std::ifstream(dir / "eval.json"));
+  EXPECT_GT(eval["iou"].get<double>(), 0.18);
+  EXPECT_GT(eval["precision"].get<double>(), 0.35);
+  EXPECT_GT(eval["recall"].get<double>(), 0.25);
+}
+
 TEST(Pipeline, ScoreWithoutPosesSaysHowToGetThem) {
   test::TempDir dir;
   Scan s;
