@@ -249,11 +249,36 @@ struct SpatiotemporalScorer::Impl {
     return spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
   }
 
+  // Euclidean clusters of the included points. Where the scan's voxels are much finer than the
+  // cluster radius, on a subsample at half that radius, each point following its voxel: at
+  // 0.1 m voxels a 0.6 m search returned hundreds of neighbours per point, and clustering cost
+  // more than scoring.
+  std::vector<std::int32_t> clusters_of(const WindowScan& w, const std::vector<std::uint8_t>& include) const {
+    const auto radius = static_cast<float>(cfg.cluster_radius);
+    const double coarse = cfg.cluster_radius / 2;
+    if (2 * w.voxel >= coarse) return euclidean_clusters(w.points, include, radius);
+    std::vector<std::int32_t> members;
+    for (std::size_t i = 0; i < include.size(); ++i) {
+      if (include[i]) members.push_back(static_cast<std::int32_t>(i));
+    }
+    Eigen::Matrix3Xf sub(3, static_cast<Eigen::Index>(members.size()));
+    for (std::size_t m = 0; m < members.size(); ++m) sub.col(static_cast<Eigen::Index>(m)) = w.points.col(members[m]);
+    const auto voxels = voxel_downsample_with_owners(sub, coarse);
+    Eigen::Matrix3Xf reps(3, static_cast<Eigen::Index>(voxels.keep.size()));
+    for (std::size_t k = 0; k < voxels.keep.size(); ++k) reps.col(static_cast<Eigen::Index>(k)) = sub.col(voxels.keep[k]);
+    const auto rep_id = euclidean_clusters(reps, std::vector<std::uint8_t>(voxels.keep.size(), 1), radius);
+    std::vector<std::int32_t> id(include.size(), -1);
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      id[static_cast<std::size_t>(members[m])] = rep_id[static_cast<std::size_t>(voxels.owner[m])];
+    }
+    return id;
+  }
+
   // Grows per-point decisions to whole Euclidean clusters of non-ground points.
   void complete_objects(const WindowScan& w, PointDecisions& d) const {
     std::vector<std::uint8_t> include(w.ground.size());
     for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
-    const auto id = euclidean_clusters(w.points, include, static_cast<float>(cfg.cluster_radius));
+    const auto id = clusters_of(w, include);
     std::int32_t clusters = 0;
     for (auto c : id) clusters = std::max(clusters, c + 1);
     std::vector<int> scored(clusters, 0), dynamic(clusters, 0);

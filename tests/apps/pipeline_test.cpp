@@ -74,7 +74,7 @@ TEST(Pipeline, TruncatedScanStopsWithOneLineAndAnIncompleteSummary) {
 
 // The real busy street (Hesai Pandar64, 30 scans of 216k points, moving traffic boxed):
 // odometry -> scorer -> OctoMap through the command line with its preset, then scored against
-// the boxes. Measured: 0.52 M of 6.47 M points removed, IoU 0.23, precision 0.45, recall 0.33.
+// the boxes. Measured: 0.62 M of 6.47 M points removed, IoU 0.32, precision 0.52, recall 0.45.
 TEST(Pipeline, RealStreetRunsEndToEndAndFindsTheTraffic) {
   const auto data = test::shared_data() / "pandar64_street";
   if (!std::filesystem::exists(data)) GTEST_SKIP() << "no " << data;
@@ -96,9 +96,9 @@ TEST(Pipeline, RealStreetRunsEndToEndAndFindsTheTraffic) {
                              " --poses " + (dir / "run" / "poses.txt").string() + " --json " +
                              (dir / "eval.json").string(), &out), 0) << out;
   const auto eval = nlohmann::json::parse(std::ifstream(dir / "eval.json"));
-  EXPECT_GT(eval["iou"].get<double>(), 0.18);
-  EXPECT_GT(eval["precision"].get<double>(), 0.35);
-  EXPECT_GT(eval["recall"].get<double>(), 0.25);
+  EXPECT_GT(eval["iou"].get<double>(), 0.25);
+  EXPECT_GT(eval["precision"].get<double>(), 0.4);
+  EXPECT_GT(eval["recall"].get<double>(), 0.35);
 }
 
 TEST(Pipeline, ScoreWithoutPosesSaysHowToGetThem) {
