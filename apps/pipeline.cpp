@@ -13,6 +13,7 @@
 #include <iomanip>
 #include <map>
 #include <mutex>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_pipeline.h>
 
 #include "apps/output_dir.hpp"
@@ -274,18 +275,24 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   progress.finish();
 
   auto t = Clock::now();
-  dynamic_cloud.write(opt.out / (opt.mapping ? "map_dynamic.pcd" : "dynamic.pcd"));
-  static_cloud.write(opt.out / (opt.mapping ? "map_static.pcd" : "static.pcd"));
-  if (opt.mapping) {
-    static_cloud.write(opt.out / "map_static.ply");
-    if (cfg.mapping.write_raw_map) raw_cloud.write(opt.out / "map_raw.pcd");
-    octo->write_binary(opt.out / "map.bt");
-    octo->write_full(opt.out / "map.ot");
-    if (cfg.mapping.occupancy_grid) {
-      octo->write_occupancy_grid(opt.out / "map_2d.pgm", cfg.mapping.grid_z_min, cfg.mapping.grid_z_max);
-    }
-    summary["octomap_leaves"] = octo->leaf_count();
-  }
+  // The map files are independent of each other: written side by side (the OctoMap ones in
+  // one task, as writing the .bt prunes the tree). An error in any task is rethrown here.
+  tbb::parallel_invoke(
+      [&] { dynamic_cloud.write(opt.out / (opt.mapping ? "map_dynamic.pcd" : "dynamic.pcd")); },
+      [&] { static_cloud.write(opt.out / (opt.mapping ? "map_static.pcd" : "static.pcd")); },
+      [&] {
+        if (opt.mapping) static_cloud.write(opt.out / "map_static.ply");
+        if (opt.mapping && cfg.mapping.write_raw_map) raw_cloud.write(opt.out / "map_raw.pcd");
+      },
+      [&] {
+        if (!opt.mapping) return;
+        octo->write_binary(opt.out / "map.bt");
+        octo->write_full(opt.out / "map.ot");
+        if (cfg.mapping.occupancy_grid) {
+          octo->write_occupancy_grid(opt.out / "map_2d.pgm", cfg.mapping.grid_z_min, cfg.mapping.grid_z_max);
+        }
+      });
+  if (opt.mapping) summary["octomap_leaves"] = octo->leaf_count();
   if (use_odometry) write_pose_files(opt.out, poses, seq.calib_tr);
   stage_seconds["write"] += since(t);
 
