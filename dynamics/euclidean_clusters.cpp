@@ -1,48 +1,37 @@
 #include "dynamics/euclidean_clusters.hpp"
 
-#include <numeric>
-
 #include "io/point_index.hpp"
 
 namespace cleanmap {
-namespace {
 
-std::int32_t find_root(std::vector<std::int32_t>& parent, std::int32_t i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-}  // namespace
-
-std::vector<std::int32_t> euclidean_clusters(const Eigen::Matrix3Xf& points,
-                                             const std::vector<std::uint8_t>& include,
-                                             float radius) {
-  std::vector<std::int32_t> members;
-  for (std::size_t i = 0; i < include.size(); ++i) {
-    if (include[i]) members.push_back(static_cast<std::int32_t>(i));
+std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
+                                              const std::vector<std::uint8_t>& include,
+                                              const std::vector<std::uint8_t>& seed, float radius) {
+  std::vector<std::int32_t> id(include.size(), -1), members;
+  for (std::size_t k = 0; k < include.size(); ++k) {
+    if (include[k]) members.push_back(static_cast<std::int32_t>(k));
   }
   Eigen::Matrix3Xf subset(3, static_cast<Eigen::Index>(members.size()));
-  for (std::size_t k = 0; k < members.size(); ++k) subset.col(static_cast<Eigen::Index>(k)) = points.col(members[k]);
+  for (std::size_t m = 0; m < members.size(); ++m) subset.col(static_cast<Eigen::Index>(m)) = points.col(members[m]);
   const PointIndex index(subset);
-  std::vector<std::int32_t> parent(members.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (std::size_t k = 0; k < members.size(); ++k) {
-    index.for_each_within(subset.col(static_cast<Eigen::Index>(k)), radius, [&](std::uint32_t j, float) {
-      const auto a = find_root(parent, static_cast<std::int32_t>(k));
-      const auto b = find_root(parent, static_cast<std::int32_t>(j));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    });
-  }
-  std::vector<std::int32_t> id(include.size(), -1);
-  std::vector<std::int32_t> root_id(members.size(), -1);
   std::int32_t next = 0;
-  for (std::size_t k = 0; k < members.size(); ++k) {
-    const auto r = find_root(parent, static_cast<std::int32_t>(k));
-    if (root_id[r] < 0) root_id[r] = next++;
-    id[members[k]] = root_id[r];
+  std::vector<std::int32_t> stack;
+  for (const auto k : members) {
+    if (!seed[static_cast<std::size_t>(k)] || id[static_cast<std::size_t>(k)] >= 0) continue;
+    id[static_cast<std::size_t>(k)] = next;
+    stack.assign(1, k);
+    while (!stack.empty()) {
+      const auto j = stack.back();
+      stack.pop_back();
+      index.for_each_within(points.col(j), radius, [&](std::uint32_t m, float) {
+        const auto q = static_cast<std::size_t>(members[m]);
+        if (id[q] < 0) {
+          id[q] = next;
+          stack.push_back(static_cast<std::int32_t>(q));
+        }
+      });
+    }
+    ++next;
   }
   return id;
 }

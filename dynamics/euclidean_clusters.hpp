@@ -6,11 +6,14 @@
 
 namespace cleanmap {
 
-// Connected components of the points with include[i] != 0, linking points closer than
-// `radius`. Returns a cluster id per point (-1 for excluded points); ids are 0..k-1, numbered
-// by their lowest point index, so the result does not depend on search order.
-std::vector<std::int32_t> euclidean_clusters(const Eigen::Matrix3Xf& points,
-                                             const std::vector<std::uint8_t>& include,
-                                             float radius);
+// Connected components (points closer than `radius` linked) of the points with include[i] != 0
+// that contain a seed (seed[i] != 0 and included); every other point stays -1. Ids are
+// 0..k-1 in the order of each cluster's lowest seed index, so the result does not depend on
+// search order. Grown from the seeds only: where objects are a few, that is a few hundred
+// searches, not a clustering of the whole scan; a cluster without a seed could not change
+// anything for the callers (completion, the free-space vote) anyway.
+std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
+                                              const std::vector<std::uint8_t>& include,
+                                              const std::vector<std::uint8_t>& seed, float radius);
 
 }  // namespace cleanmap

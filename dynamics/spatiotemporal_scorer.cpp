@@ -253,10 +253,11 @@ struct SpatiotemporalScorer::Impl {
   // cluster radius, on a subsample at half that radius, each point following its voxel: at
   // 0.1 m voxels a 0.6 m search returned hundreds of neighbours per point, and clustering cost
   // more than scoring.
-  std::vector<std::int32_t> clusters_of(const WindowScan& w, const std::vector<std::uint8_t>& include) const {
+  std::vector<std::int32_t> clusters_of(const WindowScan& w, const std::vector<std::uint8_t>& include,
+                                        const std::vector<std::uint8_t>& seed) const {
     const auto radius = static_cast<float>(cfg.cluster_radius);
     const double coarse = cfg.cluster_radius / 2;
-    if (2 * w.voxel >= coarse) return euclidean_clusters(w.points, include, radius);
+    if (2 * w.voxel >= coarse) return clusters_from_seeds(w.points, include, seed, radius);
     std::vector<std::int32_t> members;
     for (std::size_t i = 0; i < include.size(); ++i) {
       if (include[i]) members.push_back(static_cast<std::int32_t>(i));
@@ -266,7 +267,11 @@ struct SpatiotemporalScorer::Impl {
     const auto voxels = voxel_downsample_with_owners(sub, coarse);
     Eigen::Matrix3Xf reps(3, static_cast<Eigen::Index>(voxels.keep.size()));
     for (std::size_t k = 0; k < voxels.keep.size(); ++k) reps.col(static_cast<Eigen::Index>(k)) = sub.col(voxels.keep[k]);
-    const auto rep_id = euclidean_clusters(reps, std::vector<std::uint8_t>(voxels.keep.size(), 1), radius);
+    std::vector<std::uint8_t> rep_seed(voxels.keep.size(), 0);  // a voxel with a seed is one
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      if (seed[static_cast<std::size_t>(members[m])]) rep_seed[static_cast<std::size_t>(voxels.owner[m])] = 1;
+    }
+    const auto rep_id = clusters_from_seeds(reps, std::vector<std::uint8_t>(voxels.keep.size(), 1), rep_seed, radius);
     std::vector<std::int32_t> id(include.size(), -1);
     for (std::size_t m = 0; m < members.size(); ++m) {
       id[static_cast<std::size_t>(members[m])] = rep_id[static_cast<std::size_t>(voxels.owner[m])];
@@ -278,7 +283,8 @@ struct SpatiotemporalScorer::Impl {
   void complete_objects(const WindowScan& w, PointDecisions& d) const {
     std::vector<std::uint8_t> include(w.ground.size());
     for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
-    const auto id = clusters_of(w, include);
+    // Only clusters holding a dynamic point can become dynamic: grow just those.
+    const auto id = clusters_of(w, include, d.dynamic);
     std::int32_t clusters = 0;
     for (auto c : id) clusters = std::max(clusters, c + 1);
     std::vector<int> scored(clusters, 0), dynamic(clusters, 0);

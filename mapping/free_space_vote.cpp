@@ -2,49 +2,10 @@
 
 #include <algorithm>
 
-#include "io/point_index.hpp"
+#include "dynamics/euclidean_clusters.hpp"
 #include "io/voxel_downsample.hpp"
 
 namespace cleanmap {
-namespace {
-
-// Connected components (points closer than `radius`) of the included points that contain a
-// seed; every other point stays -1. Grown from the seeds only: a scan with a few hits costs a
-// few hundred searches, not a clustering of the whole scan.
-std::vector<std::int32_t> components_from_seeds(const Eigen::Matrix3Xf& points,
-                                                const std::vector<std::uint8_t>& include,
-                                                const std::vector<std::uint8_t>& seed,
-                                                float radius) {
-  std::vector<std::int32_t> id(include.size(), -1), members;
-  for (std::size_t k = 0; k < include.size(); ++k) {
-    if (include[k]) members.push_back(static_cast<std::int32_t>(k));
-  }
-  Eigen::Matrix3Xf subset(3, static_cast<Eigen::Index>(members.size()));
-  for (std::size_t m = 0; m < members.size(); ++m) subset.col(static_cast<Eigen::Index>(m)) = points.col(members[m]);
-  const PointIndex index(subset);
-  std::int32_t next = 0;
-  std::vector<std::int32_t> stack;
-  for (const auto k : members) {
-    if (!seed[static_cast<std::size_t>(k)] || id[static_cast<std::size_t>(k)] >= 0) continue;
-    id[static_cast<std::size_t>(k)] = next;
-    stack.assign(1, k);
-    while (!stack.empty()) {
-      const auto j = stack.back();
-      stack.pop_back();
-      index.for_each_within(points.col(j), radius, [&](std::uint32_t m, float) {
-        const auto q = static_cast<std::size_t>(members[m]);
-        if (id[q] < 0) {
-          id[q] = next;
-          stack.push_back(static_cast<std::int32_t>(q));
-        }
-      });
-    }
-    ++next;
-  }
-  return id;
-}
-
-}  // namespace
 
 std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
                                              const GroundQuery& ground_of,
@@ -72,7 +33,7 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   std::vector<std::uint8_t> hits(keep.size(), 0);
   for (std::size_t j = 0; j < above.size(); ++j) hits[static_cast<std::size_t>(above[j])] = answers[j];
   if (std::none_of(hits.begin(), hits.end(), [](std::uint8_t h) { return h != 0; })) return out;
-  const auto cluster = components_from_seeds(sub, include, hits, cluster_radius);
+  const auto cluster = clusters_from_seeds(sub, include, hits, cluster_radius);
   std::int32_t clusters = 0;
   for (auto c : cluster) clusters = std::max(clusters, c + 1);
   // Votes are counted on the subsample: one per occupied 0.2 m voxel.
