@@ -275,12 +275,14 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   progress.finish();
 
   auto t = Clock::now();
-  // The map files are independent of each other: written side by side (the OctoMap ones in
-  // one task, as writing the .bt prunes the tree). An error in any task is rethrown here.
+  // The map files are independent of each other: written side by side, but the large clouds
+  // one after another (each write converts a whole cloud for PCL: two at once doubled the peak
+  // memory), and the OctoMap ones in order (writing the .bt prunes the tree). An error in any
+  // task is rethrown here.
   tbb::parallel_invoke(
       [&] { dynamic_cloud.write(opt.out / (opt.mapping ? "map_dynamic.pcd" : "dynamic.pcd")); },
-      [&] { static_cloud.write(opt.out / (opt.mapping ? "map_static.pcd" : "static.pcd")); },
       [&] {
+        static_cloud.write(opt.out / (opt.mapping ? "map_static.pcd" : "static.pcd"));
         if (opt.mapping) static_cloud.write(opt.out / "map_static.ply");
         if (opt.mapping && cfg.mapping.write_raw_map) raw_cloud.write(opt.out / "map_raw.pcd");
       },
