@@ -16,4 +16,14 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
                                               const std::vector<std::uint8_t>& include,
                                               const std::vector<std::uint8_t>& seed, float radius);
 
+// Which clusters (ids 0..k-1 from clusters_from_seeds, -1 = none) are one moving object by
+// the vote of their points: at least `min_votes` points vote (votes[i] != 0), at least
+// `min_fraction` of the points that count do (counts[i] != 0; empty = every point counts), and
+// the cluster spans at most `max_extent` horizontally (a building is never one object).
+std::vector<std::uint8_t> vote_clusters(const Eigen::Matrix3Xf& points,
+                                        const std::vector<std::int32_t>& id,
+                                        const std::vector<std::uint8_t>& votes,
+                                        const std::vector<std::uint8_t>& counts, int min_votes,
+                                        double min_fraction, double max_extent);
+
 }  // namespace cleanmap

@@ -285,25 +285,11 @@ struct SpatiotemporalScorer::Impl {
     for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
     // Only clusters holding a dynamic point can become dynamic: grow just those.
     const auto id = clusters_of(w, include, d.dynamic);
-    std::int32_t clusters = 0;
-    for (auto c : id) clusters = std::max(clusters, c + 1);
-    std::vector<int> scored(clusters, 0), dynamic(clusters, 0);
-    std::vector<Eigen::Vector3f> lo(clusters, Eigen::Vector3f::Constant(INFINITY));
-    std::vector<Eigen::Vector3f> hi(clusters, Eigen::Vector3f::Constant(-INFINITY));
-    for (std::size_t i = 0; i < id.size(); ++i) {
-      if (id[i] < 0) continue;
-      const auto p = w.points.col(static_cast<Eigen::Index>(i));
-      lo[id[i]] = lo[id[i]].cwiseMin(p);
-      hi[id[i]] = hi[id[i]].cwiseMax(p);
-      if (!std::isnan(d.score[i])) ++scored[id[i]];
-      dynamic[id[i]] += d.dynamic[i];
-    }
-    std::vector<std::uint8_t> moving(clusters, 0);
-    for (std::int32_t c = 0; c < clusters; ++c) {
-      moving[c] = dynamic[c] >= cfg.cluster_min_dynamic &&
-                  dynamic[c] >= cfg.cluster_min_fraction * scored[c] &&
-                  (hi[c] - lo[c]).head<2>().norm() <= cfg.cluster_max_extent;
-    }
+    // The share is of the scored points: unscored ones have no say.
+    std::vector<std::uint8_t> scored(id.size());
+    for (std::size_t i = 0; i < scored.size(); ++i) scored[i] = !std::isnan(d.score[i]);
+    const auto moving = vote_clusters(w.points, id, d.dynamic, scored, cfg.cluster_min_dynamic,
+                                      cfg.cluster_min_fraction, cfg.cluster_max_extent);
     for (std::size_t i = 0; i < id.size(); ++i) {
       if (id[i] >= 0) d.dynamic[i] = moving[id[i]];
     }

@@ -34,25 +34,8 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   for (std::size_t j = 0; j < above.size(); ++j) hits[static_cast<std::size_t>(above[j])] = answers[j];
   if (std::none_of(hits.begin(), hits.end(), [](std::uint8_t h) { return h != 0; })) return out;
   const auto cluster = clusters_from_seeds(sub, include, hits, cluster_radius);
-  std::int32_t clusters = 0;
-  for (auto c : cluster) clusters = std::max(clusters, c + 1);
   // Votes are counted on the subsample: one per occupied 0.2 m voxel.
-  std::vector<int> size(clusters, 0), hit(clusters, 0);
-  std::vector<Eigen::Vector3f> lo(clusters, Eigen::Vector3f::Constant(INFINITY));
-  std::vector<Eigen::Vector3f> hi(clusters, Eigen::Vector3f::Constant(-INFINITY));
-  for (std::size_t k = 0; k < keep.size(); ++k) {
-    const auto c = cluster[k];
-    if (c < 0) continue;
-    ++size[c];
-    hit[c] += hits[k];
-    lo[c] = lo[c].cwiseMin(sub.col(static_cast<Eigen::Index>(k)));
-    hi[c] = hi[c].cwiseMax(sub.col(static_cast<Eigen::Index>(k)));
-  }
-  std::vector<std::uint8_t> moving(static_cast<std::size_t>(clusters), 0);
-  for (std::int32_t c = 0; c < clusters; ++c) {
-    moving[static_cast<std::size_t>(c)] =
-        hit[c] >= min_hits && hit[c] >= fraction * size[c] && (hi[c] - lo[c]).head<2>().norm() <= max_extent;
-  }
+  const auto moving = vote_clusters(sub, cluster, hits, {}, min_hits, fraction, max_extent);
   // Each full-resolution point belongs to the cluster of its voxel's subsample point.
   for (std::size_t i = 0; i < n; ++i) {
     const auto c = cluster[static_cast<std::size_t>(voxels.owner[i])];
