@@ -127,7 +127,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
       for (std::size_t i = 0; i < scan.size(); ++i) {
         if (!r.dynamic[i]) keep.push_back(static_cast<std::int32_t>(i));
       }
-      octo->insert(select_points(scan, keep).points, scan.pose->translation());
+      octo->insert(scan.points(Eigen::all, keep), scan.pose->translation());
     }
     mapping_s += since(t);
   };

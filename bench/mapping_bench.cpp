@@ -39,9 +39,7 @@ const std::vector<StaticScan>& os1_stream() {
         const auto j = w.input_index.empty() ? static_cast<std::size_t>(i) : static_cast<std::size_t>(w.input_index[static_cast<std::size_t>(i)]);
         if ((labels[k][j] & 0xFFFF) != 251) keep.push_back(i);
       }
-      Eigen::Matrix3Xf pts(3, static_cast<Eigen::Index>(keep.size()));
-      for (std::size_t j = 0; j < keep.size(); ++j) pts.col(static_cast<Eigen::Index>(j)) = w.points.col(keep[j]);
-      out.push_back({std::move(pts), w.points, w.pose->translation()});
+      out.push_back({w.points(Eigen::all, keep), w.points, w.pose->translation()});
     }
     return out;
   }();

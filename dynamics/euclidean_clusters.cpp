@@ -14,8 +14,7 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
   for (std::size_t k = 0; k < include.size(); ++k) {
     if (include[k]) members.push_back(static_cast<std::int32_t>(k));
   }
-  Eigen::Matrix3Xf subset(3, static_cast<Eigen::Index>(members.size()));
-  for (std::size_t m = 0; m < members.size(); ++m) subset.col(static_cast<Eigen::Index>(m)) = points.col(members[m]);
+  const Eigen::Matrix3Xf subset = points(Eigen::all, members);
   const PointIndex index(subset);
   std::int32_t next = 0;
   std::vector<std::int32_t> stack;

@@ -262,11 +262,9 @@ struct SpatiotemporalScorer::Impl {
     for (std::size_t i = 0; i < include.size(); ++i) {
       if (include[i]) members.push_back(static_cast<std::int32_t>(i));
     }
-    Eigen::Matrix3Xf sub(3, static_cast<Eigen::Index>(members.size()));
-    for (std::size_t m = 0; m < members.size(); ++m) sub.col(static_cast<Eigen::Index>(m)) = w.points.col(members[m]);
+    const Eigen::Matrix3Xf sub = w.points(Eigen::all, members);
     const auto voxels = voxel_downsample_with_owners(sub, coarse);
-    Eigen::Matrix3Xf reps(3, static_cast<Eigen::Index>(voxels.keep.size()));
-    for (std::size_t k = 0; k < voxels.keep.size(); ++k) reps.col(static_cast<Eigen::Index>(k)) = sub.col(voxels.keep[k]);
+    const Eigen::Matrix3Xf reps = sub(Eigen::all, voxels.keep);
     std::vector<std::uint8_t> rep_seed(voxels.keep.size(), 0);  // a voxel with a seed is one
     for (std::size_t m = 0; m < members.size(); ++m) {
       if (seed[static_cast<std::size_t>(members[m])]) rep_seed[static_cast<std::size_t>(voxels.owner[m])] = 1;

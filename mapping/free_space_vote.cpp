@@ -18,8 +18,7 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   constexpr double kVoxel = 0.2;
   const auto voxels = voxel_downsample_with_owners(points, kVoxel);
   const auto& keep = voxels.keep;
-  Eigen::Matrix3Xf sub(3, static_cast<Eigen::Index>(keep.size()));
-  for (std::size_t k = 0; k < keep.size(); ++k) sub.col(static_cast<Eigen::Index>(k)) = points.col(keep[k]);
+  const Eigen::Matrix3Xf sub = points(Eigen::all, keep);
   // Ground is never an object: only the rest asks the map (about half the look-ups).
   auto include = ground_of(sub);
   for (auto& v : include) v = v ? 0 : 1;
@@ -27,9 +26,7 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   for (std::size_t k = 0; k < include.size(); ++k) {
     if (include[k]) above.push_back(static_cast<std::int32_t>(k));
   }
-  Eigen::Matrix3Xf asked(3, static_cast<Eigen::Index>(above.size()));
-  for (std::size_t j = 0; j < above.size(); ++j) asked.col(static_cast<Eigen::Index>(j)) = sub.col(above[j]);
-  const auto answers = hits_in_free_space(asked);
+  const auto answers = hits_in_free_space(sub(Eigen::all, above));
   std::vector<std::uint8_t> hits(keep.size(), 0);
   for (std::size_t j = 0; j < above.size(); ++j) hits[static_cast<std::size_t>(above[j])] = answers[j];
   if (std::none_of(hits.begin(), hits.end(), [](std::uint8_t h) { return h != 0; })) return out;

@@ -78,12 +78,10 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   }
   step.points = pre.size();
 
-  const auto frame = downsample(pre.points, 0.5 * config_.map_voxel_size);
+  const Eigen::Matrix3Xf frame = pre.points(Eigen::all, voxel_downsample(pre.points, 0.5 * config_.map_voxel_size));
   // The registered points: the frame downsampled again (a quarter of the work of another pass
   // over the whole scan).
-  Eigen::Matrix3Xf frame_points(3, static_cast<Eigen::Index>(frame.size()));
-  for (std::size_t k = 0; k < frame.size(); ++k) frame_points.col(static_cast<Eigen::Index>(k)) = frame[k].cast<float>();
-  const auto source = downsample(frame_points, config_.registration_voxel * config_.map_voxel_size);
+  const auto source = downsample(frame, config_.registration_voxel * config_.map_voxel_size);
   step.threshold = threshold_.value();
   step.pose = prediction;
   if (static_cast<int>(pre.size()) < config_.min_points) {
@@ -106,8 +104,8 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   }
   if (!step.degenerate) {
     std::vector<Eigen::Vector3d> world;
-    world.reserve(frame.size());
-    for (const auto& p : frame) world.push_back(step.pose * p);
+    world.reserve(static_cast<std::size_t>(frame.cols()));
+    for (Eigen::Index k = 0; k < frame.cols(); ++k) world.push_back(step.pose * frame.col(k).cast<double>());
     map_.add(world);
     map_.remove_far(step.pose.translation());
   }
