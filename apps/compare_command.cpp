@@ -33,9 +33,7 @@ TrajectoryNumbers evaluate(const fs::path& est_file, const fs::path& ref_file) {
 void register_compare(CLI::App& app) {
   struct Args {
     fs::path input, out = "cleanmap-compare", config, ref;
-    InputSettings input_cli;
-    OdometryConfig odometry_cli;
-    ScorerConfig scorer_cli;
+    PresetOptions options;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("compare", "Odometry with and without dynamic-point removal from its "
@@ -44,15 +42,9 @@ void register_compare(CLI::App& app) {
   cmd->add_option("--out", args->out, "Output folder (runs in OUT/without and OUT/with)")->capture_default_str();
   cmd->add_option("--ref", args->ref, "Reference poses; default <input>/poses.txt");
   cmd->add_option("--config", args->config, "YAML preset (sections input, odometry, scorer)");
-  add_options(*cmd, args->input_cli, input_fields());
-  add_options(*cmd, args->odometry_cli, odometry_fields());
-  add_options(*cmd, args->scorer_cli, scorer_fields());
+  args->options.add_to(*cmd, PresetOptions::kOdometry | PresetOptions::kScorer);
   cmd->callback([cmd, args] {
-    const auto preset = load_optional_preset(args->config);
-    PipelineConfig cfg;
-    cfg.input = resolve(*cmd, preset, args->config, "input", InputSettings{}, args->input_cli, input_fields());
-    cfg.odometry = resolve(*cmd, preset, args->config, "odometry", OdometryConfig{}, args->odometry_cli, odometry_fields());
-    cfg.scorer = resolve(*cmd, preset, args->config, "scorer", ScorerConfig{}, args->scorer_cli, scorer_fields());
+    PipelineConfig cfg = args->options.resolve(*cmd, args->config);
     const fs::path ref = args->ref.empty() ? args->input / "poses.txt" : args->ref;
     if (!fs::exists(ref)) fail(ref, "no reference poses (give --ref FILE)");
     cfg.input.poses.clear();  // the sequence's own poses are the reference, not an input here

@@ -17,16 +17,14 @@ struct OdometryArgs {
   fs::path input, out = "cleanmap-odometry", config;
   bool write_scans = false;
   std::string method = "point_to_plane";
-  InputSettings input_cli;
-  OdometryConfig odometry_cli;
+  PresetOptions options;
 };
 
 void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
-  const auto preset = load_optional_preset(args.config);
-  auto input = resolve(cmd, preset, args.config, "input", InputSettings{}, args.input_cli, input_fields());
-  const auto cfg = resolve(cmd, preset, args.config, "odometry", OdometryConfig{}, args.odometry_cli, odometry_fields());
+  const PipelineConfig settings = args.options.resolve(cmd, args.config);
+  const OdometryConfig& cfg = settings.odometry;
   validate(cfg);
-  SequenceOptions so = sequence_options(input);
+  SequenceOptions so = sequence_options(settings.input);
   Sequence seq = open_sequence(args.input, so);
   make_dirs(args.out);
   if (args.write_scans) make_dirs(args.out / "scans");
@@ -99,8 +97,7 @@ void register_odometry(CLI::App& app) {
   cmd->add_option("--method", args->method, "point_to_plane, or the point_to_point baseline")
       ->check(CLI::IsMember({"point_to_plane", "point_to_point"}))
       ->capture_default_str();
-  add_options(*cmd, args->input_cli, input_fields());
-  add_options(*cmd, args->odometry_cli, odometry_fields());
+  args->options.add_to(*cmd, PresetOptions::kOdometry);
   cmd->callback([cmd, args] { run_guarded(args->out, "odometry", [&] { run_odometry(*cmd, *args); }); });
 }
 

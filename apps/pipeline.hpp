@@ -19,13 +19,6 @@ struct PipelineOptions {
   std::string command;
 };
 
-struct PipelineConfig {
-  InputSettings input;
-  OdometryConfig odometry;
-  ScorerConfig scorer;
-  MappingSettings mapping;
-};
-
 // Writes every output into options.out, summary.json last; throws Error on bad input (the
 // caller marks the summary incomplete).
 void run_pipeline(const PipelineOptions& options, const PipelineConfig& config,

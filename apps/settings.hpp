@@ -151,4 +151,45 @@ inline YAML::Node load_optional_preset(const std::filesystem::path& file) {
   return file.empty() ? YAML::Node() : load_preset(file);
 }
 
+// Every setting of one streaming pass, by preset section.
+struct PipelineConfig {
+  InputSettings input;
+  OdometryConfig odometry;
+  ScorerConfig scorer;
+  MappingSettings mapping;
+};
+
+// The preset sections a command takes: registered as command-line options, then resolved
+// (defaults <- preset section <- command line) in one place. `input` always; the others as
+// the command asks. Sections a command does not take keep their defaults.
+struct PresetOptions {
+  enum Section { kOdometry = 1, kScorer = 2, kMapping = 4 };
+  PipelineConfig cli;  // the options' targets (only those given on the command line count)
+  int sections = 0;
+
+  void add_to(CLI::App& cmd, int with) {
+    sections = with;
+    add_options(cmd, cli.input, input_fields());
+    if (with & kOdometry) add_options(cmd, cli.odometry, odometry_fields());
+    if (with & kScorer) add_options(cmd, cli.scorer, scorer_fields());
+    if (with & kMapping) add_options(cmd, cli.mapping, mapping_fields());
+  }
+
+  PipelineConfig resolve(const CLI::App& cmd, const std::filesystem::path& preset_file) const {
+    const auto preset = load_optional_preset(preset_file);
+    PipelineConfig c;
+    c.input = app::resolve(cmd, preset, preset_file, "input", InputSettings{}, cli.input, input_fields());
+    if (sections & kOdometry) {
+      c.odometry = app::resolve(cmd, preset, preset_file, "odometry", OdometryConfig{}, cli.odometry, odometry_fields());
+    }
+    if (sections & kScorer) {
+      c.scorer = app::resolve(cmd, preset, preset_file, "scorer", ScorerConfig{}, cli.scorer, scorer_fields());
+    }
+    if (sections & kMapping) {
+      c.mapping = app::resolve(cmd, preset, preset_file, "mapping", MappingSettings{}, cli.mapping, mapping_fields());
+    }
+    return c;
+  }
+};
+
 }  // namespace cleanmap::app
