@@ -138,7 +138,6 @@ struct SpatiotemporalScorer::Impl {
     return v;
   }
 
-  // Per-cell statistics of one scan, relative to each cell's centre.
   // Per-cell statistics of one scan, relative to each cell's centre, by ground class.
   using ScanCells = std::vector<std::pair<VoxelKey, Moments4>>;
   std::array<ScanCells, 2> scan_cells(const WindowScan& w) const {
