@@ -8,6 +8,16 @@
 #include "io/error.hpp"
 
 namespace cleanmap {
+
+Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                                   double s) {
+  const Eigen::AngleAxisd delta(a.linear().transpose() * b.linear());
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = a.linear() * Eigen::AngleAxisd(s * delta.angle(), delta.axis()).toRotationMatrix();
+  out.translation() = a.translation() + s * (b.translation() - a.translation());
+  return out;
+}
+
 namespace {
 
 // Splits a line into finite numbers; fails naming the line otherwise.

@@ -7,6 +7,11 @@
 
 namespace cleanmap {
 
+// Pose at fraction s of the way from a (s = 0) to b (s = 1), constant linear and angular
+// velocity; s outside [0, 1] extrapolates.
+Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
+                                   double s);
+
 enum class PoseFormat { kAuto, kKitti, kTum };
 
 // Parses "auto", "kitti", "tum"; throws Error on anything else.

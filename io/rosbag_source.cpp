@@ -11,6 +11,7 @@
 #include <set>
 
 #include "io/error.hpp"
+#include "io/pose_file.hpp"
 #include "io/raw_cloud.hpp"
 
 namespace cleanmap {
@@ -30,18 +31,14 @@ Eigen::Isometry3d to_pose(const geometry_msgs::Pose& t) {
   return p;
 }
 
-// Pose at time t from a time-sorted track: linear in translation, slerp in rotation; held
+// Pose at time t from a time-sorted track, interpolated between its neighbours; held
 // constant beyond the ends.
 Eigen::Isometry3d pose_at(const std::map<double, Eigen::Isometry3d>& track, double t) {
   auto hi = track.lower_bound(t);
   if (hi == track.begin()) return hi->second;
   if (hi == track.end()) return std::prev(hi)->second;
   auto lo = std::prev(hi);
-  const double s = (t - lo->first) / (hi->first - lo->first);
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.linear() = Eigen::Quaterniond(lo->second.rotation()).slerp(s, Eigen::Quaterniond(hi->second.rotation())).toRotationMatrix();
-  p.translation() = (1 - s) * lo->second.translation() + s * hi->second.translation();
-  return p;
+  return interpolate_pose(lo->second, hi->second, (t - lo->first) / (hi->first - lo->first));
 }
 
 }  // namespace

@@ -3,14 +3,10 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "io/pose_file.hpp"
 #include "io/scan.hpp"
 
 namespace cleanmap {
-
-// Pose at fraction s of the way from a (s = 0) to b (s = 1), constant linear and angular
-// velocity; s outside [0, 1] extrapolates.
-Eigen::Isometry3d interpolate_pose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b,
-                                   double s);
 
 // The sensor's motion over a sweep: pose at the scan stamp and the relative motion per second
 // (as a pose delta expressed in the stamp's sensor frame), constant over the sweep.
