@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The quality table every detection change is judged by: `cleanmap run` on every data set with
+# ground truth (the real sequences in ../shared/data and the synthetic street), scored against
+# that ground truth, all ranges and within 20 m of the sensor, plus the run's speed.
+#
+# Usage: bash bench/quality.sh [BUILD_DIR] [WORK_DIR] [-- extra run options]
+#   BUILD_DIR: the build to measure (default build); WORK_DIR: where the runs go (default a
+#   temporary folder, removed afterwards). Extra options after `--` go to every `run`.
+# Compare two builds with the same command on each (or two WORK_DIRs), one after the other.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+build="$(cd "${1:-$here/build}" && pwd)"
+shift || true
+work="${1:-}"
+[ $# -gt 0 ] && shift
+[ "${1:-}" = "--" ] && shift
+extra=("$@")
+data="${CLEANMAP_SHARED_DATA:-$here/../shared/data}"
+cm="$build/apps/cleanmap"
+[ -x "$cm" ] || { echo "quality: $cm: not built" >&2; exit 1; }
+[ -d "$data" ] || { echo "quality: $data: no shared data" >&2; exit 1; }
+if [ -z "$work" ]; then
+  work="$(mktemp -d)"
+  trap 'rm -rf "$work"' EXIT
+fi
+mkdir -p "$work"
+
+# name | input | run options | eval options (besides --pred/--gt)
+sets=(
+  "semantickitti/01|$data/semantickitti/01|--config $here/config/kitti-hdl64.yaml --use-given-poses|"
+  "semantickitti/04|$data/semantickitti/04|--config $here/config/kitti-hdl64.yaml --use-given-poses|"
+  "semantickitti/07|$data/semantickitti/07|--config $here/config/kitti-hdl64.yaml --use-given-poses|"
+  "kitti00 (0-2, odometry)|$data/kitti00|--config $here/config/kitti-hdl64.yaml|"
+  "pandar64_street (boxes)|$data/pandar64_street|--config $here/config/pandar64.yaml|--poses @OUT@/poses.txt"
+  "synthetic street|@SYNTH@|--voxel-size 0.1|"
+)
+
+"$cm" demo --generate-only --out "$work/synthetic" > /dev/null 2>&1
+
+metric() {  # metric JSON FIELD
+  python3 -c "import json,sys; d=json.load(open(sys.argv[1])); v = d[sys.argv[2]]; print('n/a' if v is None else '%.3f' % v)" "$1" "$2"
+}
+
+printf '%-26s %6s %6s %6s   %6s %6s %6s   %7s\n' "data set" "IoU" "prec" "recall" "IoU20" "prec20" "rec20" "scans/s"
+printf '%-26s %6s %6s %6s   %6s %6s %6s   %7s\n' "" "(all" "ranges)" "" "(within" "20 m)" "" ""
+for entry in "${sets[@]}"; do
+  IFS='|' read -r name input run_opts eval_opts <<< "$entry"
+  input="${input//@SYNTH@/$work/synthetic/sequence}"
+  out="$work/$(echo "$name" | tr -c 'a-zA-Z0-9\n' '_')"
+  rm -rf "$out"
+  # shellcheck disable=SC2086
+  if ! "$cm" run --input "$input" --out "$out" $run_opts "${extra[@]}" > "$out.log" 2>&1; then
+    printf '%-26s run failed: %s\n' "$name" "$(tail -n 1 "$out.log")"
+    continue
+  fi
+  eval_opts="${eval_opts//@OUT@/$out}"
+  # shellcheck disable=SC2086
+  "$cm" eval dynamic --pred "$out" --gt "$input" $eval_opts --json "$out/all.json" > /dev/null
+  # shellcheck disable=SC2086
+  "$cm" eval dynamic --pred "$out" --gt "$input" $eval_opts --max-range 20 --json "$out/near.json" > /dev/null
+  rate=$(python3 -c "import json,sys; print('%.1f' % json.load(open(sys.argv[1]))['scans_per_second'])" "$out/summary.json")
+  printf '%-26s %6s %6s %6s   %6s %6s %6s   %7s\n' "$name" \
+    "$(metric "$out/all.json" iou)" "$(metric "$out/all.json" precision)" "$(metric "$out/all.json" recall)" \
+    "$(metric "$out/near.json" iou)" "$(metric "$out/near.json" precision)" "$(metric "$out/near.json" recall)" "$rate"
+done
