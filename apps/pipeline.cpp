@@ -114,7 +114,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
             return segment_ground(sub, sensor_z, cfg.scorer.ground_cell, cfg.scorer.ground_height);
           },
           [&](const Eigen::Matrix3Xf& sub) { return octo->hits_in_free_space(sub); },
-          cfg.mapping.free_space_fraction);
+          cfg.mapping.free_space_objects);
       for (std::size_t i = 0; i < scan.size(); ++i) {
         if (objects[i] && !r.dynamic[i]) {
           r.dynamic[i] = 1;

@@ -8,6 +8,7 @@
 #include "apps/config_fields.hpp"
 #include "dynamics/scorer_config.hpp"
 #include "io/sequence.hpp"
+#include "mapping/free_space_vote.hpp"
 #include "mapping/octomap_builder.hpp"
 #include "odometry/odometry_config.hpp"
 
@@ -75,10 +76,11 @@ inline auto scorer_fields() {
       CLEANMAP_FIELD("ground_cell", ground_cell, "Ground grid cell, m"),
       CLEANMAP_FIELD("ground_height", ground_height, "Height above the local lowest point that is ground, m"),
       CLEANMAP_FIELD("object_completion", object_completion, "Grow decisions to whole clusters"),
-      CLEANMAP_FIELD("cluster_radius", cluster_radius, "Euclidean clustering distance, m"),
-      CLEANMAP_FIELD("cluster_min_fraction", cluster_min_fraction, "Share of a cluster's scored points that must be dynamic"),
-      CLEANMAP_FIELD("cluster_min_dynamic", cluster_min_dynamic, "Dynamic points a cluster needs"),
-      CLEANMAP_FIELD("cluster_max_extent", cluster_max_extent, "Clusters wider than this (m) are never completed"));
+      CLEANMAP_FIELD("cluster_radius", objects.radius, "Euclidean clustering distance, m"),
+      CLEANMAP_FIELD("cluster_min_fraction", objects.min_fraction, "Share of a cluster's scored points that must be dynamic"),
+      CLEANMAP_FIELD("cluster_min_dynamic", objects.min_votes, "Dynamic points a cluster needs"),
+      CLEANMAP_FIELD("cluster_max_extent", objects.max_extent, "Clusters wider than this (m) are split, not completed"),
+      CLEANMAP_FIELD("cluster_min_split_radius", objects.min_split_radius, "Over-large clusters are re-clustered at half the radius down to this, m"));
 }
 
 inline auto odometry_fields() {
@@ -112,7 +114,7 @@ struct MappingSettings {
   int insert_every = 2;
   bool write_raw_map = false;     // also map_raw.pcd: the map without removal
   bool free_space = true;         // add the OctoMap free-space opinion to the scorer's
-  double free_space_fraction = 0.3;  // share of a cluster's points that must hit free space
+  ObjectRule free_space_objects = kFreeSpaceRule;  // when a cluster is dynamic by free space
   bool occupancy_grid = false;    // 2D grid (PGM + YAML, ROS map_server)
   double grid_z_min = 0.3;        // heights (world z) that count for the grid, m
   double grid_z_max = 2.0;
@@ -132,7 +134,10 @@ inline auto mapping_fields() {
       CLEANMAP_FIELD("cloud_voxel", cloud_voxel, "Voxel filter of the static cloud, m (0 = all points)"),
       CLEANMAP_FIELD("write_raw_map", write_raw_map, "Also write map_raw.pcd (no removal)"),
       CLEANMAP_FIELD("free_space", free_space, "Add the free-space opinion (hits in observed-free cells)"),
-      CLEANMAP_FIELD("free_space_fraction", free_space_fraction, "Share of a cluster in free space that makes it dynamic"),
+      CLEANMAP_FIELD("free_space_fraction", free_space_objects.min_fraction, "Share of a cluster in free space that makes it dynamic"),
+      CLEANMAP_FIELD("free_space_min_hits", free_space_objects.min_votes, "0.2 m voxels of a cluster that must lie in free space"),
+      CLEANMAP_FIELD("free_space_cluster_radius", free_space_objects.radius, "Free-space vote: clustering distance, m"),
+      CLEANMAP_FIELD("free_space_max_extent", free_space_objects.max_extent, "Free-space vote: wider clusters are split, m"),
       CLEANMAP_FIELD("occupancy_grid", occupancy_grid, "Write a 2D occupancy grid (PGM + YAML)"),
       CLEANMAP_FIELD("grid_z_min", grid_z_min, "Lowest height in the grid, m"),
       CLEANMAP_FIELD("grid_z_max", grid_z_max, "Highest height in the grid, m"));

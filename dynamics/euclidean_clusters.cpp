@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "io/error.hpp"
 #include "io/point_index.hpp"
 
 namespace cleanmap {
@@ -38,16 +39,26 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
   return id;
 }
 
-std::vector<std::uint8_t> vote_clusters(const Eigen::Matrix3Xf& points,
-                                        const std::vector<std::int32_t>& id,
-                                        const std::vector<std::uint8_t>& votes,
-                                        const std::vector<std::uint8_t>& counts, int min_votes,
-                                        double min_fraction, double max_extent) {
+void validate(const ObjectRule& r, const std::string& who) {
+  auto bad = [&](const std::string& what) { throw Error(who + ": " + what); };
+  if (!std::isfinite(r.radius) || !(r.radius > 0)) bad("cluster radius must be positive");
+  if (r.min_votes < 1) bad("a cluster needs at least 1 vote");
+  if (!(r.min_fraction >= 0 && r.min_fraction <= 1)) bad("cluster vote fraction must be in [0, 1]");
+  if (!(r.max_extent > 0)) bad("cluster max extent must be positive");
+  if (!(r.min_split_radius > 0)) bad("cluster min split radius must be positive");
+}
+
+std::vector<ClusterVerdict> vote_clusters(const Eigen::Matrix3Xf& points,
+                                          const std::vector<std::int32_t>& id,
+                                          const std::vector<std::uint8_t>& votes,
+                                          const std::vector<std::uint8_t>& counts,
+                                          const ObjectRule& rule) {
   std::int32_t clusters = 0;
   for (auto c : id) clusters = std::max(clusters, c + 1);
-  std::vector<int> counted(static_cast<std::size_t>(clusters), 0), voted(static_cast<std::size_t>(clusters), 0);
-  std::vector<Eigen::Vector3f> lo(static_cast<std::size_t>(clusters), Eigen::Vector3f::Constant(INFINITY));
-  std::vector<Eigen::Vector3f> hi(static_cast<std::size_t>(clusters), Eigen::Vector3f::Constant(-INFINITY));
+  const auto k = static_cast<std::size_t>(clusters);
+  std::vector<int> counted(k, 0), voted(k, 0);
+  std::vector<Eigen::Vector3f> lo(k, Eigen::Vector3f::Constant(INFINITY));
+  std::vector<Eigen::Vector3f> hi(k, Eigen::Vector3f::Constant(-INFINITY));
   for (std::size_t i = 0; i < id.size(); ++i) {
     if (id[i] < 0) continue;
     const auto c = static_cast<std::size_t>(id[i]);
@@ -57,12 +68,40 @@ std::vector<std::uint8_t> vote_clusters(const Eigen::Matrix3Xf& points,
     counted[c] += counts.empty() || counts[i];
     voted[c] += votes[i] != 0;
   }
-  std::vector<std::uint8_t> moving(static_cast<std::size_t>(clusters), 0);
-  for (std::size_t c = 0; c < moving.size(); ++c) {
-    moving[c] = voted[c] >= min_votes && voted[c] >= min_fraction * counted[c] &&
-                (hi[c] - lo[c]).head<2>().norm() <= max_extent;
+  std::vector<ClusterVerdict> verdict(k, ClusterVerdict::kNotMoving);
+  for (std::size_t c = 0; c < k; ++c) {
+    if ((hi[c] - lo[c]).head<2>().norm() > rule.max_extent) {
+      verdict[c] = ClusterVerdict::kTooLarge;
+    } else if (voted[c] < rule.min_votes) {
+      verdict[c] = ClusterVerdict::kFewVotes;
+    } else if (voted[c] >= rule.min_fraction * counted[c]) {
+      verdict[c] = ClusterVerdict::kMoving;
+    }
   }
-  return moving;
+  return verdict;
+}
+
+std::vector<ClusterVerdict> moving_objects(const Eigen::Matrix3Xf& points,
+                                         const std::vector<std::uint8_t>& include,
+                                         const std::vector<std::uint8_t>& votes,
+                                         const std::vector<std::uint8_t>& counts,
+                                         const ObjectRule& rule, const ClusterFunction& cluster) {
+  std::vector<ClusterVerdict> out(include.size(), ClusterVerdict::kNotMoving);
+  std::vector<std::uint8_t> left = include;
+  for (double radius = rule.radius;; radius /= 2) {
+    const auto id = cluster(left, votes, static_cast<float>(radius));
+    const auto verdict = vote_clusters(points, id, votes, counts, rule);
+    bool split = false;
+    for (std::size_t i = 0; i < id.size(); ++i) {
+      if (id[i] < 0) continue;
+      out[i] = verdict[static_cast<std::size_t>(id[i])];
+      left[i] = out[i] == ClusterVerdict::kTooLarge;
+      split = split || left[i];
+    }
+    if (!split || radius / 2 < rule.min_split_radius) break;
+    for (std::size_t i = 0; i < id.size(); ++i) left[i] = left[i] && id[i] >= 0;
+  }
+  return out;
 }
 
 }  // namespace cleanmap

@@ -2,7 +2,10 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <vector>
+
+#include "dynamics/object_rule.hpp"
 
 namespace cleanmap {
 
@@ -16,14 +19,34 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
                                               const std::vector<std::uint8_t>& include,
                                               const std::vector<std::uint8_t>& seed, float radius);
 
-// Which clusters (ids 0..k-1 from clusters_from_seeds, -1 = none) are one moving object by
-// the vote of their points: at least `min_votes` points vote (votes[i] != 0), at least
-// `min_fraction` of the points that count do (counts[i] != 0; empty = every point counts), and
-// the cluster spans at most `max_extent` horizontally (a building is never one object).
-std::vector<std::uint8_t> vote_clusters(const Eigen::Matrix3Xf& points,
-                                        const std::vector<std::int32_t>& id,
-                                        const std::vector<std::uint8_t>& votes,
-                                        const std::vector<std::uint8_t>& counts, int min_votes,
-                                        double min_fraction, double max_extent);
+// kFewVotes: fewer than min_votes points vote. A mover is seen as several neighbouring voxels
+// (a pedestrian at 0.1 m voxels is dozens); one or two dynamic voxels alone are noise.
+enum class ClusterVerdict : std::uint8_t { kNotMoving, kMoving, kTooLarge, kFewVotes };
+
+// The verdict on each cluster (ids 0..k-1 from clusters_from_seeds, -1 = none) by the vote of
+// its points: too large when it spans more than `max_extent` horizontally, whatever the vote;
+// else few votes when fewer than `min_votes` points vote (votes[i] != 0); else moving when at
+// least `min_fraction` of the points that count do (counts[i] != 0; empty = every point
+// counts).
+std::vector<ClusterVerdict> vote_clusters(const Eigen::Matrix3Xf& points,
+                                          const std::vector<std::int32_t>& id,
+                                          const std::vector<std::uint8_t>& votes,
+                                          const std::vector<std::uint8_t>& counts,
+                                          const ObjectRule& rule);
+
+// Clusters of the included points that hold a seed, at a given radius (clusters_from_seeds, or
+// a caller's cheaper equivalent on a subsample).
+using ClusterFunction = std::function<std::vector<std::int32_t>(
+    const std::vector<std::uint8_t>& include, const std::vector<std::uint8_t>& seed, float radius)>;
+
+// The verdict on each point's cluster (kNotMoving for points in none). Clusters too large to
+// be one object are split (re-clustered at half the radius) until they are small enough or the
+// radius reaches rule.min_split_radius (then they stay kTooLarge). Callers add kMoving clusters
+// to their per-point decisions; a cluster that fails the vote on its share takes nothing away.
+std::vector<ClusterVerdict> moving_objects(const Eigen::Matrix3Xf& points,
+                                         const std::vector<std::uint8_t>& include,
+                                         const std::vector<std::uint8_t>& votes,
+                                         const std::vector<std::uint8_t>& counts,
+                                         const ObjectRule& rule, const ClusterFunction& cluster);
 
 }  // namespace cleanmap

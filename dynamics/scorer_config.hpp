@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "dynamics/object_rule.hpp"
+
 namespace cleanmap {
 
 // All the scorer's parameters, in physical units. Defaults are the paper's DOALS settings
@@ -34,12 +36,11 @@ struct ScorerConfig {
   double ground_height = 0.25; // points this close above the local lowest point are ground
 
   // Object-level completion: a Euclidean cluster of non-ground points is dynamic as a whole
-  // when enough of it scores dynamic. Off = the paper's per-point output.
+  // when enough of it scores dynamic (votes: dynamic points; counted: scored points). It only
+  // adds: a cluster that fails the vote keeps its points' own decisions. Off = the paper's
+  // per-point output.
   bool object_completion = true;
-  double cluster_radius = 0.6;
-  double cluster_min_fraction = 0.1;  // of its scored points
-  int cluster_min_dynamic = 3;
-  double cluster_max_extent = 12.0;   // larger clusters (buildings) are never completed
+  ObjectRule objects;
 };
 
 // Throws Error naming the bad parameter.

@@ -27,7 +27,8 @@ struct ScoredScan {
 
 // Streaming spatiotemporal-normal scorer (Falque, Le Gentil, Sukkar, ACRA 2023) over a sliding
 // window of 2N+1 registered scans. Scan i is scored once scan i+N has been pushed, so results
-// come out N scans late; finish() scores the last N with the window that exists.
+// come out N scans late; the first N+1 scans wait for scan 2N (a one-sided window of full
+// length), and finish() scores the last N with the last 2N+1 scans (all of a shorter log).
 class SpatiotemporalScorer {
  public:
   explicit SpatiotemporalScorer(const ScorerConfig& config);

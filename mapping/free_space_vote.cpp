@@ -10,8 +10,7 @@ namespace cleanmap {
 std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
                                              const GroundQuery& ground_of,
                                              const FreeSpaceQuery& hits_in_free_space,
-                                             double fraction, int min_hits, float cluster_radius,
-                                             double max_extent) {
+                                             const ObjectRule& rule) {
   const auto n = static_cast<std::size_t>(points.cols());
   std::vector<std::uint8_t> out(n, 0);
   if (n == 0) return out;
@@ -30,13 +29,13 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   std::vector<std::uint8_t> hits(keep.size(), 0);
   for (std::size_t j = 0; j < above.size(); ++j) hits[static_cast<std::size_t>(above[j])] = answers[j];
   if (std::none_of(hits.begin(), hits.end(), [](std::uint8_t h) { return h != 0; })) return out;
-  const auto cluster = clusters_from_seeds(sub, include, hits, cluster_radius);
   // Votes are counted on the subsample: one per occupied 0.2 m voxel.
-  const auto moving = vote_clusters(sub, cluster, hits, {}, min_hits, fraction, max_extent);
-  // Each full-resolution point belongs to the cluster of its voxel's subsample point.
+  const auto moving = moving_objects(sub, include, hits, {}, rule, [&](const auto& in, const auto& seed, float r) {
+    return clusters_from_seeds(sub, in, seed, r);
+  });
+  // Each full-resolution point takes the answer of its voxel's subsample point.
   for (std::size_t i = 0; i < n; ++i) {
-    const auto c = cluster[static_cast<std::size_t>(voxels.owner[i])];
-    out[i] = c >= 0 && moving[static_cast<std::size_t>(c)];
+    out[i] = moving[static_cast<std::size_t>(voxels.owner[i])] == ClusterVerdict::kMoving;
   }
   return out;
 }

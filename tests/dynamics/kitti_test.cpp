@@ -28,8 +28,9 @@ TEST(KittiMovingObjects, MotorcyclistFoundAndParkedCarsStayStatic) {
   cfg.voxel_size = 0.1;
   cfg.window_half = 4;
   cfg.threshold = 0.4;
+  cfg.max_eigen_ratio = 0.2;
   cfg.upsample = "nearest";
-  cfg.cluster_min_fraction = 0.2;
+  cfg.objects.min_fraction = 0.2;
   SpatiotemporalScorer scorer(cfg);
   std::vector<ScoredScan> out;
   for (std::size_t i = 0; i < scans.size(); ++i) {

@@ -155,18 +155,37 @@ TEST(SpatiotemporalScorer, EveryScanIsScoredOnceWithTheWindowThatExists) {
   ScorerConfig cfg = analytic_config("fast");
   SpatiotemporalScorer scorer(cfg);
   std::vector<ScoredScan> out;
-  for (int k = 0; k < 5; ++k) {  // fewer scans than one window
+  for (int k = 0; k < 5; ++k) {  // fewer scans than one window (2N+1 = 7)
     auto r = scorer.push(plane_scan(0.1 * k, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero()));
-    EXPECT_EQ(r.size(), k >= 3 ? 1u : 0u);  // N = 3 scans late
-    for (auto& s : r) out.push_back(std::move(s));
+    EXPECT_TRUE(r.empty());
   }
   for (auto& s : scorer.finish()) out.push_back(std::move(s));
   ASSERT_EQ(out.size(), 5u);
-  for (std::size_t k = 0; k < 5; ++k) {
+  for (std::size_t k = 0; k < 5; ++k) {  // the whole log is every scan's window
     EXPECT_EQ(out[k].index, k);
-    EXPECT_EQ(out[k].scans_before, std::min<int>(static_cast<int>(k), 3));
-    EXPECT_EQ(out[k].scans_after, std::min<int>(static_cast<int>(4 - k), 3));
+    EXPECT_EQ(out[k].scans_before, static_cast<int>(k));
+    EXPECT_EQ(out[k].scans_after, static_cast<int>(4 - k));
     EXPECT_EQ(out[k].score.size(), out[k].scan.size());
+  }
+}
+
+TEST(SpatiotemporalScorer, LogEndsAreScoredWithAFullLengthOneSidedWindow) {
+  ScorerConfig cfg = analytic_config("fast");  // N = 3
+  SpatiotemporalScorer scorer(cfg);
+  std::vector<ScoredScan> out;
+  for (int k = 0; k < 10; ++k) {
+    auto r = scorer.push(plane_scan(0.1 * k, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero()));
+    // Scans 0..3 wait for scan 6, then one scan comes out per push, 3 scans late.
+    EXPECT_EQ(r.size(), k < 6 ? 0u : k == 6 ? 4u : 1u) << k;
+    for (auto& s : r) out.push_back(std::move(s));
+  }
+  for (auto& s : scorer.finish()) out.push_back(std::move(s));
+  ASSERT_EQ(out.size(), 10u);
+  for (std::size_t k = 0; k < 10; ++k) {
+    const int i = static_cast<int>(k);
+    EXPECT_EQ(out[k].index, k);
+    EXPECT_EQ(out[k].scans_before + out[k].scans_after, 6) << k;  // always 2N+1 scans
+    EXPECT_EQ(out[k].scans_before, i <= 3 ? i : i <= 6 ? 3 : i - 3) << k;
   }
 }
 

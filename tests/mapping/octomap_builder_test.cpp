@@ -94,7 +94,7 @@ TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
   Eigen::Matrix3Xf scan(3, 2 * 41 * 21);
   scan << object, wall(10);
   const auto no_ground = [](const Eigen::Matrix3Xf& s) { return std::vector<std::uint8_t>(static_cast<std::size_t>(s.cols()), 0); };
-  const auto dyn = free_space_objects(scan, no_ground, [&](const Eigen::Matrix3Xf& s) { return map.hits_in_free_space(s); }, 0.3);
+  const auto dyn = free_space_objects(scan, no_ground, [&](const Eigen::Matrix3Xf& s) { return map.hits_in_free_space(s); }, kFreeSpaceRule);
   EXPECT_EQ(std::count(dyn.begin(), dyn.begin() + 41 * 21, 1), 41 * 21);
   EXPECT_EQ(std::count(dyn.begin() + 41 * 21, dyn.end(), 1), 0);
 }
