@@ -53,6 +53,31 @@ nlohmann::json library_versions() {
           {"cleanmap", "0.1.0"}};
 }
 
+// The platform mask, learnt from the first scans in the sensor frame (world-frame inputs, such
+// as DynamicMap's, are cleaned already: only the crop box could apply, and it has no frame).
+PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg) {
+  if (seq.world_frame) return {};
+  std::vector<Eigen::Matrix3Xf> first;
+  const auto n = std::min(seq.size(), static_cast<std::size_t>(cfg.learn_scans));
+  for (std::size_t i = 0; cfg.automatic && i < n; ++i) first.push_back(load_scan(seq, i).scan.points);
+  return learn_platform_mask(first, cfg);
+}
+
+// Masked points leave the scan before anything sees it; their outputs are label 0 / NaN.
+std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask) {
+  if (mask.empty()) return 0;
+  const auto keep = unmasked_points(loaded.scan.points, mask);
+  const std::size_t masked = loaded.scan.size() - keep.size();
+  if (masked == 0) return 0;
+  if (!loaded.labels.empty()) {
+    std::vector<std::uint32_t> labels(keep.size());
+    for (std::size_t k = 0; k < keep.size(); ++k) labels[k] = loaded.labels[static_cast<std::size_t>(keep[k])];
+    loaded.labels = std::move(labels);
+  }
+  loaded.scan = select_points(loaded.scan, keep);
+  return masked;
+}
+
 }  // namespace
 
 void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohmann::json summary) {
@@ -64,6 +89,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   // benchmark scores kept points by distance.
   const bool use_odometry = opt.odometry && !seq.world_frame;
   if (use_odometry) validate(cfg.odometry);
+  validate(cfg.input.platform);
   if (!use_odometry && !seq.has_poses() && !seq.world_frame) {
     fail(opt.input, "no poses: give --poses FILE or put poses.txt in the folder "
                     "(`cleanmap odometry` estimates them, `cleanmap run` does it itself)");
@@ -81,6 +107,9 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   if (opt.mapping) summary["mapping"] = to_json(cfg.mapping, mapping_fields());
   summary["libraries"] = library_versions();
   write_summary(opt.out, summary, false);
+  const PlatformMask mask = platform_mask(seq, cfg.input.platform);
+  if (!mask.note.empty()) std::fprintf(stderr, "%s: platform mask: none learnt: %s\n", opt.command.c_str(), mask.note.c_str());
+  std::size_t masked = 0;
 
   std::unique_ptr<LidarOdometry> odom;
   if (use_odometry) odom = std::make_unique<LidarOdometry>(cfg.odometry);
@@ -226,6 +255,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
             auto t = Clock::now();
             LoadedScan loaded = load_scan(seq, item->index);
             dropped += loaded.dropped_non_finite;
+            masked += drop_masked(loaded, mask);
             item->labels = std::move(loaded.labels);
             read_s += since(t);
             t = Clock::now();
@@ -306,6 +336,8 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   summary["unscored_points"] = unscored;
   summary["free_space_added_points"] = free_space_added;
   summary["non_finite_dropped"] = dropped;
+  summary["platform_mask"] = {{"masked_points", masked}, {"learnt_cells", mask.cells.size()},
+                              {"crop_box", !mask.crop_box.empty()}, {"note", mask.note}};
   summary["seconds"] = seconds;
   summary["scans_per_second"] = seconds > 0 ? static_cast<double>(seq.size()) / seconds : 0.0;
   summary["stage_seconds"] = stage_seconds;

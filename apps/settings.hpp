@@ -11,6 +11,7 @@
 #include "mapping/free_space_vote.hpp"
 #include "mapping/octomap_builder.hpp"
 #include "odometry/odometry_config.hpp"
+#include "odometry/platform_mask.hpp"
 
 namespace cleanmap::app {
 
@@ -25,6 +26,7 @@ struct InputSettings {
   std::string bag_topic;          // ROS bag input: PointCloud2 topic (empty = the only one)
   std::string bag_pose_topic;     // ROS bag input: Odometry / TransformStamped / tf topic
   std::string bag_child_frame;    // ROS bag input with tf: the sensor frame
+  PlatformMaskConfig platform;    // the recording platform's own returns, masked
 };
 
 inline auto input_fields() {
@@ -40,7 +42,13 @@ inline auto input_fields() {
                      "Only points within this range (m) count in label metrics; 0 = all"),
       CLEANMAP_FIELD("bag_topic", bag_topic, "ROS bag: PointCloud2 topic (default: the only one)"),
       CLEANMAP_FIELD("bag_pose_topic", bag_pose_topic, "ROS bag: nav_msgs/Odometry, TransformStamped or tf topic"),
-      CLEANMAP_FIELD("bag_child_frame", bag_child_frame, "ROS bag with tf: the sensor's frame id"));
+      CLEANMAP_FIELD("bag_child_frame", bag_child_frame, "ROS bag with tf: the sensor's frame id"),
+      CLEANMAP_FIELD("self_mask", platform.automatic, "Mask the recording platform (returns fixed in the sensor frame)"),
+      CLEANMAP_FIELD("self_mask_scans", platform.learn_scans, "Scans the platform mask is learnt from"),
+      CLEANMAP_FIELD("self_mask_range", platform.max_range, "Only points this close can be the platform, m"),
+      CLEANMAP_FIELD("self_mask_voxel", platform.voxel, "Sensor-frame cell of the platform mask, m"),
+      CLEANMAP_FIELD("self_mask_share", platform.min_share, "Share of scans a platform cell is occupied in"),
+      CLEANMAP_FIELD("crop_box", platform.crop_box, "Sensor-frame box always masked: xmin ymin zmin xmax ymax zmax, m"));
 }
 
 inline SequenceOptions sequence_options(const InputSettings& s) {
