@@ -136,11 +136,10 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     const auto t = Clock::now();
     Scan& scan = r.scan;
     if (cfg.mapping.free_space) {
-      const double sensor_z = scan.pose->translation().z();
       const auto objects = free_space_objects(
           scan.points,
           [&](const Eigen::Matrix3Xf& sub) {
-            return segment_ground(sub, sensor_z, cfg.scorer.ground_cell, cfg.scorer.ground_height);
+            return segment_ground(sub, cfg.scorer.ground);
           },
           [&](const Eigen::Matrix3Xf& sub) { return octo->hits_in_free_space(sub); },
           cfg.mapping.free_space_objects);

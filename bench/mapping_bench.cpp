@@ -78,7 +78,7 @@ void free_space_opinion(benchmark::State& state) {
     for (const auto& s : scans) {
       const auto t = std::chrono::steady_clock::now();
       const auto objects = free_space_objects(
-          s.all, [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, s.origin.z(), 1.0, 0.25); },
+          s.all, [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, GroundConfig{}); },
           [&](const Eigen::Matrix3Xf& sub) { return map.hits_in_free_space(sub); }, kFreeSpaceRule);
       per_scan.push_back(seconds_since(t));
       for (auto o : objects) flagged += o;

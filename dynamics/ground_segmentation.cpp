@@ -1,16 +1,25 @@
 #include "dynamics/ground_segmentation.hpp"
 
 #include <cmath>
+#include <string>
 
 #include <tsl/robin_map.h>
 
+#include "io/error.hpp"
 #include "io/voxel_key.hpp"
 
 namespace cleanmap {
 
-std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, double sensor_z,
-                                         double cell, double height) {
-  const double inv = 1.0 / cell;
+void validate(const GroundConfig& c) {
+  auto bad = [](const std::string& what) { throw Error("ground: " + what); };
+  if (!std::isfinite(c.cell) || !(c.cell > 0)) bad("ground_cell must be positive");
+  if (!std::isfinite(c.height) || !(c.height > 0)) bad("ground_height must be positive");
+  if (!std::isfinite(c.max_slope) || !(c.max_slope >= 0)) bad("ground_max_slope must be >= 0");
+  if (!std::isfinite(c.reach) || !(c.reach >= 0)) bad("ground_reach must be >= 0");
+}
+
+std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& c) {
+  const double inv = 1.0 / c.cell;
   const auto n = static_cast<std::size_t>(points.cols());
   std::vector<VoxelKey> key(n);
   tsl::robin_map<VoxelKey, float, VoxelKeyHash> lowest;
@@ -22,24 +31,36 @@ std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, double 
     auto [it, fresh] = lowest.try_emplace(key[i], p.z());
     if (!fresh) it.value() = std::min(it->second, p.z());
   }
-  // The local floor of each cell: the lowest point in it and its 8 neighbours.
-  tsl::robin_map<VoxelKey, float, VoxelKeyHash> floor;
-  floor.reserve(lowest.size());
-  for (const auto& [k, z] : lowest) {
-    float floor_z = z;
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        const auto it = lowest.find(VoxelKey{k.x + dx, k.y + dy, 0});
-        if (it != lowest.end()) floor_z = std::min(floor_z, it->second);
-      }
+  // A cell's floor is the lowest point of its 3x3 block, unless that floor floats above the
+  // slope-limited lower envelope of the lowest points within `reach` (min over cells n of
+  // lowest(n) + max_slope * distance, a morphological opening with a cone as in progressive
+  // morphological ground filters): then it is a roof, and the envelope is its floor. The
+  // envelope alone lifts the floor beside objects by max_slope * cell (a car's sill became
+  // ground: SemanticKITTI 01 recall 0.75 -> 0.60).
+  const int r = static_cast<int>(std::floor(c.reach * inv));
+  std::vector<std::pair<VoxelKey, float>> cone;  // neighbour offset, rise allowed to reach it
+  for (int dx = -r; dx <= r; ++dx) {
+    for (int dy = -r; dy <= r; ++dy) {
+      const double d = c.cell * std::hypot(dx, dy);
+      if (d <= c.reach + 1e-9) cone.push_back({{dx, dy, 0}, static_cast<float>(c.max_slope * d)});
     }
-    floor.emplace(k, floor_z);
+  }
+  tsl::robin_map<VoxelKey, float, VoxelKeyHash> ground_z;
+  ground_z.reserve(lowest.size());
+  for (const auto& [k, z] : lowest) {
+    float g = z;
+    for (const auto& [off, rise] : cone) {
+      const auto it = lowest.find(VoxelKey{k.x + off.x, k.y + off.y, 0});
+      if (it == lowest.end()) continue;
+      const bool block = std::abs(off.x) <= 1 && std::abs(off.y) <= 1;
+      g = std::min(g, it->second + (block ? 0.0f : rise));
+    }
+    ground_z.emplace(k, g);
   }
   std::vector<std::uint8_t> ground(n, 0);
+  const auto band = static_cast<float>(c.height);
   for (std::size_t i = 0; i < n; ++i) {
-    const float floor_z = floor.find(key[i])->second;
-    const float z = points(2, static_cast<Eigen::Index>(i));
-    ground[i] = (floor_z < sensor_z - 0.5 && z - floor_z < height) ? 1 : 0;
+    ground[i] = points(2, static_cast<Eigen::Index>(i)) - ground_z.find(key[i])->second < band ? 1 : 0;
   }
   return ground;
 }

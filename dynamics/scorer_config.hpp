@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "dynamics/ground_segmentation.hpp"
 #include "dynamics/object_rule.hpp"
 
 namespace cleanmap {
@@ -32,8 +33,7 @@ struct ScorerConfig {
   // own kind, so ground does not tilt the normals of objects' feet.
   bool ground_aware = true;
   bool ground_static = true;   // with ground_aware: ground points are never dynamic on their own
-  double ground_cell = 1.0;    // metres, 2D grid for the local ground height
-  double ground_height = 0.25; // points this close above the local lowest point are ground
+  GroundConfig ground;         // where the ground is (also the free-space vote's ground)
 
   // Object-level completion: a Euclidean cluster of non-ground points is dynamic as a whole
   // when enough of it scores dynamic (votes: dynamic points; counted: scored points). It only

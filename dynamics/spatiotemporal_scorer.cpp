@@ -93,9 +93,7 @@ void validate(const ScorerConfig& c) {
   }
   if (c.cell_size < 0) bad("cell_size must be >= 0");
   if (!(c.upsample_radius > 0)) bad("upsample_radius must be positive");
-  if (c.ground_aware && (!(c.ground_cell > 0) || !(c.ground_height > 0))) {
-    bad("ground_cell and ground_height must be positive");
-  }
+  if (c.ground_aware) validate(c.ground);
   if (c.object_completion) validate(c.objects, "scorer");
 }
 
@@ -185,9 +183,8 @@ struct SpatiotemporalScorer::Impl {
       w.points.col(k) = scan.points.col(keep[k]);
       w.time[k] = scan.stamp - *t0 + (scan.has_time() ? scan.time[keep[k]] : 0.0f);
     }
-    const double sensor_z = scan.pose ? scan.pose->translation().z() : 0.0;
     w.ground = cfg.ground_aware
-                   ? segment_ground(w.points, sensor_z, cfg.ground_cell, cfg.ground_height)
+                   ? segment_ground(w.points, cfg.ground)
                    : std::vector<std::uint8_t>(keep.size(), 0);
     w.full = std::move(scan);
     return w;
