@@ -93,13 +93,17 @@ std::vector<ClusterVerdict> moving_objects(const Eigen::Matrix3Xf& points,
     const auto verdict = vote_clusters(points, id, votes, counts, rule);
     bool split = false;
     for (std::size_t i = 0; i < id.size(); ++i) {
-      if (id[i] < 0) continue;
+      if (id[i] < 0) {
+        // Split off a too-large cluster without a seed of its own: part of no moving object.
+        if (left[i]) out[i] = ClusterVerdict::kNotMoving;
+        left[i] = 0;
+        continue;
+      }
       out[i] = verdict[static_cast<std::size_t>(id[i])];
       left[i] = out[i] == ClusterVerdict::kTooLarge;
       split = split || left[i];
     }
     if (!split || radius / 2 < rule.min_split_radius) break;
-    for (std::size_t i = 0; i < id.size(); ++i) left[i] = left[i] && id[i] >= 0;
   }
   return out;
 }

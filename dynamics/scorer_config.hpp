@@ -36,9 +36,9 @@ struct ScorerConfig {
   GroundConfig ground;         // where the ground is (also the free-space vote's ground)
 
   // Object-level completion: a Euclidean cluster of non-ground points is dynamic as a whole
-  // when enough of it scores dynamic (votes: dynamic points; counted: scored points). It only
-  // adds: a cluster that fails the vote keeps its points' own decisions. Off = the paper's
-  // per-point output.
+  // when enough of it scores dynamic (votes: dynamic points; counted: scored points). A
+  // cluster that fails the share keeps its points' own decisions; one with fewer than
+  // objects.min_votes dynamic points is noise. Off = the paper's per-point output.
   bool object_completion = true;
   ObjectRule objects;
 };

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "dynamics/euclidean_clusters.hpp"
 #include "dynamics/ground_segmentation.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
 #include "evaluation/dynamic_metrics.hpp"
@@ -126,6 +127,42 @@ TEST(SceneZoo, APedestrianWalkingAFootInFrontOfAWallStaysMovingAndTheWallStatic)
   EXPECT_GE(objects.recall(), per_point.recall());
   EXPECT_GT(objects.iou(), 0.35) << "precision " << objects.precision() << " recall " << objects.recall();
   EXPECT_GT(objects.precision(), 0.85);
+}
+
+}  // namespace
+}  // namespace cleanmap
+
+namespace cleanmap {
+namespace {
+
+// A 20 m wall (x along it, 0.1 m spacing) and a person-sized column 0.4 m in front of it whose
+// points all vote: at the 0.6 m radius they are one 20 m cluster, at 0.3 m two.
+TEST(ObjectRule, AnOverLargeClusterIsSplitAndOnlyItsMovingPartCompleted) {
+  std::vector<Eigen::Vector3f> pts;
+  std::vector<std::uint8_t> votes;
+  for (float x = -10; x <= 10; x += 0.1f) {
+    for (float z = 0; z <= 2; z += 0.1f) {
+      pts.emplace_back(x, 0.f, z);
+      votes.push_back(0);
+    }
+  }
+  const std::size_t wall = pts.size();
+  for (float z = 0; z <= 1.7f; z += 0.1f) {
+    pts.emplace_back(0.f, -0.4f, z);
+    votes.push_back(1);
+  }
+  Eigen::Matrix3Xf m(3, static_cast<Eigen::Index>(pts.size()));
+  for (std::size_t i = 0; i < pts.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = pts[i];
+  const std::vector<std::uint8_t> all(pts.size(), 1);
+  const auto cluster = [&](const auto& in, const auto& seed, float r) { return clusters_from_seeds(m, in, seed, r); };
+  const auto verdict = moving_objects(m, all, votes, {}, ObjectRule{}, cluster);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_EQ(verdict[i], i < wall ? ClusterVerdict::kNotMoving : ClusterVerdict::kMoving) << i;
+  }
+  // Two voting points alone are noise.
+  std::vector<std::uint8_t> two(pts.size(), 0);
+  two[wall] = two[wall + 1] = 1;
+  EXPECT_EQ(moving_objects(m, all, two, {}, ObjectRule{}, cluster)[wall], ClusterVerdict::kFewVotes);
 }
 
 }  // namespace
