@@ -1,5 +1,6 @@
 #include "dynamics/ground_segmentation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -37,23 +38,27 @@ std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const G
   // morphological ground filters): then it is a roof, and the envelope is its floor. The
   // envelope alone lifts the floor beside objects by max_slope * cell (a car's sill became
   // ground: SemanticKITTI 01 recall 0.75 -> 0.60).
-  const int r = static_cast<int>(std::floor(c.reach * inv));
-  std::vector<std::pair<VoxelKey, float>> cone;  // neighbour offset, rise allowed to reach it
+  // Neighbour offsets with the rise allowed to reach them: 0 in the 3x3 block (always
+  // searched, whatever the reach), max_slope * distance beyond it.
+  const int r = std::max(1, static_cast<int>(std::floor(c.reach * inv)));
+  std::vector<std::pair<VoxelKey, float>> around;
   for (int dx = -r; dx <= r; ++dx) {
     for (int dy = -r; dy <= r; ++dy) {
       const double d = c.cell * std::hypot(dx, dy);
-      if (d <= c.reach + 1e-9) cone.push_back({{dx, dy, 0}, static_cast<float>(c.max_slope * d)});
+      if (std::abs(dx) <= 1 && std::abs(dy) <= 1) {
+        around.push_back({{dx, dy, 0}, 0.0f});
+      } else if (d <= c.reach + 1e-9) {
+        around.push_back({{dx, dy, 0}, static_cast<float>(c.max_slope * d)});
+      }
     }
   }
   tsl::robin_map<VoxelKey, float, VoxelKeyHash> ground_z;
   ground_z.reserve(lowest.size());
   for (const auto& [k, z] : lowest) {
     float g = z;
-    for (const auto& [off, rise] : cone) {
+    for (const auto& [off, rise] : around) {
       const auto it = lowest.find(VoxelKey{k.x + off.x, k.y + off.y, 0});
-      if (it == lowest.end()) continue;
-      const bool block = std::abs(off.x) <= 1 && std::abs(off.y) <= 1;
-      g = std::min(g, it->second + (block ? 0.0f : rise));
+      if (it != lowest.end()) g = std::min(g, it->second + rise);
     }
     ground_z.emplace(k, g);
   }

@@ -20,7 +20,8 @@ using Shape = SceneObject::Shape;
 // Ground on a grid (z = height(x, y)) plus the points of an upright box; returns the share of
 // ground points labelled ground and of box points labelled ground.
 template <typename Height>
-std::pair<double, double> ground_shares(Height height, const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi) {
+std::pair<double, double> ground_shares(Height height, const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
+                                        const GroundConfig& config = {}) {
   std::mt19937 rng(7);
   std::normal_distribution<float> noise(0.f, 0.01f);
   std::vector<Eigen::Vector3f> pts;
@@ -47,7 +48,7 @@ std::pair<double, double> ground_shares(Height height, const Eigen::Vector3d& bo
   }
   Eigen::Matrix3Xf m(3, static_cast<Eigen::Index>(pts.size()));
   for (std::size_t i = 0; i < pts.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = pts[i];
-  const auto g = segment_ground(m, GroundConfig{});
+  const auto g = segment_ground(m, config);
   double ground_ok = 0, ground_n = 0, box_wrong = 0, box_n = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     (is_box[i] ? box_n : ground_n) += 1;
@@ -66,6 +67,13 @@ TEST(GroundSegmentation, FlatSlopedAndRampGroundIsGroundAndATruckRoofIsNot) {
     EXPECT_GT(ground, 0.99);
     EXPECT_LT(box, 0.05);  // the bottom row of its sides (0.3 m) may be, the roof never
   }
+  // Without the envelope (reach 0) the 3x3 block still bounds the floor: the roof of a 3 m box
+  // (whose middle cells hold roof only) is no ground, the flat street is.
+  GroundConfig block_only;
+  block_only.reach = 0.0;
+  const auto small = ground_shares([](double, double) { return 0.0; }, {-1.5, -1.5, 0}, {1.5, 1.5, 1.0}, block_only);
+  EXPECT_GT(small.first, 0.99);
+  EXPECT_LT(small.second, 0.05);
 }
 
 // A fixed sensor at `height` above the ground; a wall 8 m away along y, a pedestrian walking
