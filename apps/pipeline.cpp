@@ -83,6 +83,7 @@ std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask) {
 void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohmann::json summary) {
   validate(cfg.scorer);
   if (opt.mapping) validate(cfg.mapping.map);
+  if (opt.mapping && cfg.mapping.free_space) validate(cfg.mapping.free_space_objects, "mapping: free space vote");
   const Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
   // DynamicMap sequences are registered already: no odometry, and the output keeps every raw
   // input point that is not removed (never voxel centres or re-posed copies), as that
