@@ -19,6 +19,7 @@
 #include "apps/output_dir.hpp"
 #include "apps/progress.hpp"
 #include "dynamics/ground_segmentation.hpp"
+#include "dynamics/object_tracker.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
 #include "evaluation/dynamic_metrics.hpp"
 #include "io/label_file.hpp"
@@ -117,12 +118,14 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   std::unique_ptr<OctoMapBuilder> octo;
   if (opt.mapping) octo = std::make_unique<OctoMapBuilder>(cfg.mapping.map);
   SpatiotemporalScorer scorer(cfg.scorer);
+  ObjectTracker tracker(cfg.scorer.tracks, cfg.scorer.window_half, cfg.scorer.objects.radius);
   const double cloud_voxel = seq.world_frame ? 0.0 : opt.mapping ? cfg.mapping.cloud_voxel : 0.05;
   PointCloudMap dynamic_cloud(0.0), static_cloud(cloud_voxel), raw_cloud(cloud_voxel);
   std::vector<StampedPose> poses;
   MovingConfusion total;
   nlohmann::json per_scan = nlohmann::json::array();
-  std::size_t points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0;
+  std::size_t points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0,
+              tracked = 0;
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
   std::map<std::string, double> stage_seconds{{"read", 0}, {"odometry", 0}, {"scoring", 0},
                                               {"mapping", 0}, {"write", 0}};
@@ -201,6 +204,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
                       {"downsampled", r.downsampled},
                       {"dynamic_downsampled_before_completion", r.dynamic_before_completion},
                       {"dynamic_downsampled", r.dynamic_downsampled},
+                      {"tracked_points", r.tracked_points},
                       {"scoring_seconds", r.seconds}};
     if (!gt.empty()) {
       MovingConfusion c;
@@ -218,6 +222,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     points += scan.size();
     dynamic_points += n_dyn;
     unscored += n_unscored;
+    tracked += r.tracked_points;
     per_scan.push_back(js);
     finished_at.push_back(Clock::now());
     write_s += since(t);
@@ -234,7 +239,14 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans
   double read_s = 0, odometry_s = 0, scoring_s = 0;
   std::size_t next = 0;
-  auto attach = [&](std::vector<ScoredScan> ready, Item& item) {
+  auto attach = [&](std::vector<ScoredScan> scored, Item& item) {
+    std::vector<ScoredScan> ready;
+    for (auto& s : scored) {
+      for (auto& r : tracker.push(std::move(s))) ready.push_back(std::move(r));
+    }
+    if (item.index + 1 == seq.size()) {
+      for (auto& r : tracker.finish()) ready.push_back(std::move(r));
+    }
     for (auto& r : ready) {
       auto labels = std::move(waiting[r.index]);
       waiting.erase(r.index);
@@ -282,8 +294,11 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               [&](std::shared_ptr<Item> item) {
                 const auto t = Clock::now();
                 waiting[item->index] = std::move(item->labels);
-                attach(scorer.push(std::move(item->world)), *item);
-                if (item->index + 1 == seq.size()) attach(scorer.finish(), *item);
+                auto scored = scorer.push(std::move(item->world));
+                if (item->index + 1 == seq.size()) {
+                  for (auto& r : scorer.finish()) scored.push_back(std::move(r));
+                }
+                attach(std::move(scored), *item);
                 scoring_s += since(t);
                 return item;
               }) &
@@ -335,6 +350,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   summary["dynamic_points"] = dynamic_points;
   summary["unscored_points"] = unscored;
   summary["free_space_added_points"] = free_space_added;
+  summary["tracked_points"] = tracked;
   summary["non_finite_dropped"] = dropped;
   summary["platform_mask"] = {{"masked_points", masked}, {"learnt_cells", mask.cells.size()},
                               {"crop_box", !mask.crop_box.empty()}, {"note", mask.note}};
@@ -344,7 +360,8 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   // The rate a live sensor would see: scans leaving the pipeline per second in the steady
   // state, from the first scan scored to the last scored before the end of the log (the
   // last N come out at once when the log ends), without the final map writing.
-  const std::size_t tail = std::min<std::size_t>(static_cast<std::size_t>(cfg.scorer.window_half), finished_at.size());
+  const std::size_t delay = static_cast<std::size_t>(cfg.scorer.window_half) * (cfg.scorer.tracks.enabled ? 2 : 1);
+  const std::size_t tail = std::min(delay, finished_at.size());
   if (finished_at.size() >= tail + 2) {
     const std::size_t last = finished_at.size() - 1 - tail;
     const double span = std::chrono::duration<double>(finished_at[last] - finished_at[0]).count();

@@ -73,6 +73,8 @@ inline auto scorer_fields() {
       CLEANMAP_FIELD("radius", radius, "d_r: neighbourhood radius, m"),
       CLEANMAP_FIELD("threshold", threshold, "thr on the score |n_t|"),
       CLEANMAP_FIELD("time_scale", time_scale, "Metres one second weighs in the 4D PCA"),
+      CLEANMAP_FIELD("pose_noise", pose_noise, "Pose error per scan (1 sigma), m: motion it can fake is not dynamic"),
+      CLEANMAP_FIELD("pose_noise_deg", pose_noise_deg, "Pose rotation error per scan (1 sigma), degrees"),
       CLEANMAP_FIELD("min_neighbors", min_neighbors, "Fewer neighbours: not scored"),
       CLEANMAP_FIELD("max_eigen_ratio", max_eigen_ratio, "Not scored when l0 > ratio * l1 (no clear normal); 0 = off"),
       CLEANMAP_FIELD("mode", mode, "fast (per-cell sums) or exact (kd-tree)"),
@@ -90,7 +92,9 @@ inline auto scorer_fields() {
       CLEANMAP_FIELD("cluster_min_fraction", objects.min_fraction, "Share of a cluster's scored points that must be dynamic"),
       CLEANMAP_FIELD("cluster_min_dynamic", objects.min_votes, "Dynamic points a cluster needs"),
       CLEANMAP_FIELD("cluster_max_extent", objects.max_extent, "Clusters wider than this (m) are split, not completed"),
-      CLEANMAP_FIELD("cluster_min_split_radius", objects.min_split_radius, "Over-large clusters are re-clustered at half the radius down to this, m"));
+      CLEANMAP_FIELD("cluster_min_split_radius", objects.min_split_radius, "Over-large clusters are re-clustered at half the radius down to this, m"),
+      CLEANMAP_FIELD("track_objects", tracks.enabled, "Follow objects across the window: a mover stays dynamic where the normals miss it"),
+      CLEANMAP_FIELD("track_max_speed", tracks.max_speed, "Motion allowed between two sightings of one object, m/s"));
 }
 
 inline auto odometry_fields() {

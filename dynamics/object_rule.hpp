@@ -17,6 +17,16 @@ struct ObjectRule {
   double min_split_radius = 0.15;
 };
 
+// How objects are followed across scans (ObjectTracker): an object continues the track of
+// its nearest object in the previous scan (one-to-one) when its centroid is within
+// max_speed * gap + the cluster radius and each fits in the other's box grown by as much.
+// 15 m/s (54 km/h) covers urban traffic; a faster object starts a new track each scan, which
+// costs nothing, for the normals see it moving in every scan.
+struct TrackRule {
+  bool enabled = true;
+  double max_speed = 15.0;  // m/s
+};
+
 // Throws Error naming `who` (the settings' owner) and the bad value.
 void validate(const ObjectRule& rule, const std::string& who);
 

@@ -18,6 +18,10 @@ struct ScorerConfig {
   double threshold = 0.25;        // thr on |n_t|
 
   double time_scale = 1.0;        // metres that one second weighs in the 4D PCA
+  // The poses' error per scan (1 sigma): a point is dynamic only when its score also exceeds
+  // the motion this error can fake over its neighbourhood's time spread (3 sigma). 0 = off.
+  double pose_noise = 0.0;        // m
+  double pose_noise_deg = 0.0;    // degrees; at range r adds r * angle
   int min_neighbors = 10;         // fewer neighbours: the point is not scored (NaN)
   // Not scored when the smallest 4D eigenvalue exceeds this share of the next one: the normal
   // is then ill-defined (vegetation, clutter). 0 = off, the paper's behaviour.
@@ -41,6 +45,9 @@ struct ScorerConfig {
   // objects.min_votes dynamic points is noise. Off = the paper's per-point output.
   bool object_completion = true;
   ObjectRule objects;
+  // Objects followed across the window (ObjectTracker): the scorer describes every object of
+  // each scan, the tracker carries a mover's label to the scans where the normals miss it.
+  TrackRule tracks;
 };
 
 // Throws Error naming the bad parameter.

@@ -1,16 +1,17 @@
 #include "dynamics/spatiotemporal_scorer.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <tsl/robin_map.h>
-
+#include "dynamics/cell_table.hpp"
 #include "dynamics/euclidean_clusters.hpp"
 #include "dynamics/ground_segmentation.hpp"
+#include "dynamics/scan_objects.hpp"
 #include "dynamics/spatiotemporal_normal.hpp"
 #include "dynamics/upsample_scores.hpp"
 #include "io/error.hpp"
@@ -20,49 +21,6 @@
 
 namespace cleanmap {
 namespace {
-
-// Open addressing: scoring is dominated by cell look-ups, where std::unordered_map's node
-// chasing costs twice as much.
-using CellMap = tsl::robin_map<VoxelKey, Moments4, VoxelKeyHash>;
-
-// The window's cell statistics: a compact cell -> slot table in front of an array of moments.
-// A query probes up to 27 cells, many of them empty space; with the 168-byte moments stored
-// in the buckets themselves the table grew past 100 MB and nearly every probe missed memory.
-struct CellTable {
-  tsl::robin_map<VoxelKey, std::uint32_t, VoxelKeyHash> slot;
-  std::vector<Moments4> moments;
-  std::vector<std::uint32_t> unused;  // slots of emptied cells, reused first
-
-  const Moments4* find(const VoxelKey& k) const {
-    const auto it = slot.find(k);
-    return it == slot.end() ? nullptr : &moments[it->second];
-  }
-  void add(const VoxelKey& k, const Moments4& m) {
-    const auto [it, fresh] = slot.try_emplace(k, 0u);
-    if (!fresh) {
-      moments[it->second] += m;
-    } else if (unused.empty()) {
-      it.value() = static_cast<std::uint32_t>(moments.size());
-      moments.push_back(m);
-    } else {
-      it.value() = unused.back();
-      unused.pop_back();
-      moments[it->second] = m;
-    }
-  }
-  void subtract(const VoxelKey& k, const Moments4& m) {
-    const auto it = slot.find(k);
-    if (it == slot.end()) return;
-    Moments4& c = moments[it->second];
-    c -= m;
-    // Dropping emptied cells also resets their rounding residue.
-    if (c.n < 0.5) {
-      unused.push_back(it->second);
-      slot.erase(it);
-    }
-  }
-  std::size_t size() const { return slot.size(); }
-};
 
 // A scan in the window, reduced to what its neighbours need.
 struct WindowScan {
@@ -84,6 +42,8 @@ void validate(const ScorerConfig& c) {
   if (c.voxel_size == 0 && !(c.voxel_divisor > 0)) bad("voxel_divisor must be positive");
   if (c.window_half < 0) bad("window_half must be >= 0");
   if (!(c.radius > 0)) bad("radius must be positive");
+  if (!std::isfinite(c.pose_noise) || c.pose_noise < 0) bad("pose_noise must be >= 0 (metres)");
+  if (!std::isfinite(c.pose_noise_deg) || c.pose_noise_deg < 0) bad("pose_noise_deg must be >= 0");
   if (!(c.time_scale > 0)) bad("time_scale must be positive");
   if (c.max_eigen_ratio < 0 || c.max_eigen_ratio > 1) bad("max_eigen_ratio must be in [0, 1]");
   if (c.min_neighbors < 4) bad("min_neighbors must be at least 4 (a 4D PCA needs them)");
@@ -94,8 +54,12 @@ void validate(const ScorerConfig& c) {
   if (c.cell_size < 0) bad("cell_size must be >= 0");
   if (!(c.upsample_radius > 0)) bad("upsample_radius must be positive");
   if (c.ground_aware) validate(c.ground);
-  if (c.object_completion) validate(c.objects, "scorer");
+  if (c.object_completion || c.tracks.enabled) validate(c.objects, "scorer");
+  if (!std::isfinite(c.tracks.max_speed) || !(c.tracks.max_speed >= 0)) bad("track_max_speed must be >= 0");
 }
+
+// A pose error fakes motion up to this many standard deviations (99.7%).
+constexpr double kPoseNoiseSigmas = 3.0;
 
 struct SpatiotemporalScorer::Impl {
   ScorerConfig cfg;
@@ -190,7 +154,7 @@ struct SpatiotemporalScorer::Impl {
     return w;
   }
 
-  float score_fast(const WindowScan& w, Eigen::Index i) const {
+  Moments4 neighbourhood_fast(const WindowScan& w, Eigen::Index i) const {
     const Eigen::Vector4d q = sample(w, i);
     const auto& map = cells[w.ground[i]];
     const auto centre = voxel_of(w.points.col(i), 1.0 / cell);
@@ -228,10 +192,10 @@ struct SpatiotemporalScorer::Impl {
       if ((mean - q.head<3>()).squaredNorm() > r_sq) continue;
       m += c.shifted(q - origin);
     }
-    return spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
+    return m;
   }
 
-  float score_exact(const WindowScan& w, Eigen::Index i) const {
+  Moments4 neighbourhood_exact(const WindowScan& w, Eigen::Index i) const {
     const Eigen::Vector4d q = sample(w, i);
     const Eigen::Vector3f p = w.points.col(i);
     const std::uint8_t cls = w.ground[i];
@@ -242,7 +206,23 @@ struct SpatiotemporalScorer::Impl {
         m.add(sample(other, static_cast<Eigen::Index>(j)) - q);
       });
     }
-    return spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
+    return m;
+  }
+
+  // Whether a point is dynamic: its score over the threshold and over what the pose error can
+  // fake. A pose error of sigma (m, plus range * angle) shifts whole scans; fitted over the
+  // neighbourhood's time spread std_t it reads as a velocity of sigma / std_t. At the log's ends
+  // and on surfaces seen obliquely the neighbours come from a few adjacent scans, std_t is
+  // small and 2 cm of jitter reads as 0.2-0.4 m/s. A neighbourhood from one scan alone has no
+  // fitted slope (its score says the surface is absent at other times): no floor.
+  bool dynamic(float score, const Moments4& m, const Eigen::Vector3f& p, const Eigen::Vector3f& origin) const {
+    if (!(score > cfg.threshold)) return false;  // NaN compares false
+    if (cfg.pose_noise <= 0 && cfg.pose_noise_deg <= 0) return true;
+    const double var_t = m.covariance()(3, 3) / (cfg.time_scale * cfg.time_scale);
+    if (!(var_t > 1e-8)) return true;
+    const double sigma = cfg.pose_noise + (p - origin).norm() * cfg.pose_noise_deg * M_PI / 180.0;
+    const double v = kPoseNoiseSigmas * sigma / std::sqrt(var_t) / cfg.time_scale;
+    return score > v / std::sqrt(1.0 + v * v);
   }
 
   // Euclidean clusters of the included points. Where the scan's voxels are much finer than the
@@ -289,6 +269,15 @@ struct SpatiotemporalScorer::Impl {
     }
   }
 
+  // Every object of the scan (all clusters of non-ground points) for the tracker. On a grid of
+  // half the cluster radius: a radius search from every non-ground point (all are seeds here)
+  // cost 9 ms per scan on the 131k-point stream.
+  std::vector<std::int32_t> object_ids(const WindowScan& w) const {
+    std::vector<std::uint8_t> include(w.ground.size());
+    for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
+    return grid_components(w.points, include, cfg.objects.radius / 2);
+  }
+
   ScoredScan score(std::size_t index) {
     const auto start = std::chrono::steady_clock::now();
     WindowScan& w = window[index - window.front().index];
@@ -296,11 +285,14 @@ struct SpatiotemporalScorer::Impl {
     PointDecisions d;
     d.score.resize(n);
     d.dynamic.resize(n);
+    const Eigen::Vector3f origin =
+        w.full.pose ? Eigen::Vector3f(w.full.pose->translation().cast<float>()) : Eigen::Vector3f::Zero();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const auto k = static_cast<Eigen::Index>(i);
-        d.score[i] = cfg.mode == "exact" ? score_exact(w, k) : score_fast(w, k);
-        d.dynamic[i] = d.score[i] > cfg.threshold ? 1 : 0;  // NaN compares false
+        const Moments4 m = cfg.mode == "exact" ? neighbourhood_exact(w, k) : neighbourhood_fast(w, k);
+        d.score[i] = spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
+        d.dynamic[i] = dynamic(d.score[i], m, w.points.col(k), origin) ? 1 : 0;
         if (cfg.ground_static && w.ground[i]) d.dynamic[i] = 0;
       }
     });
@@ -312,7 +304,13 @@ struct SpatiotemporalScorer::Impl {
       out.scored_downsampled += std::isnan(d.score[i]) ? 0 : 1;
       out.dynamic_before_completion += d.dynamic[i];
     }
-    if (cfg.object_completion) complete_objects(w, d);
+    // The scan's objects do not depend on the decisions: found while completion runs.
+    std::vector<std::int32_t> objects;
+    tbb::parallel_invoke([&] { if (cfg.object_completion) complete_objects(w, d); },
+                         [&] { if (cfg.tracks.enabled) objects = object_ids(w); });
+    if (cfg.tracks.enabled) {
+      out.objects = describe_objects(w.points, objects, d.dynamic, cfg.objects.max_extent, w.owner);
+    }
     for (auto v : d.dynamic) out.dynamic_downsampled += v;
     auto full = upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius);
     w.owner = {};

@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "dynamics/scan_objects.hpp"
 #include "dynamics/scorer_config.hpp"
 #include "io/scan.hpp"
 
@@ -23,6 +24,8 @@ struct ScoredScan {
   std::size_t dynamic_before_completion = 0;  // downsampled points over the threshold
   std::size_t dynamic_downsampled = 0;        // ... after object-level completion
   double seconds = 0.0;               // time spent scoring and upsampling this scan
+  ScanObjects objects;                // for the ObjectTracker (empty when tracking is off)
+  std::size_t tracked_points = 0;     // full points the tracker made dynamic
 };
 
 // Streaming spatiotemporal-normal scorer (Falque, Le Gentil, Sukkar, ACRA 2023) over a sliding

@@ -16,7 +16,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Ray (o + s d) against an object at time t; returns s of the first hit beyond 0 or inf.
 double intersect(const SceneObject& obj, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
                  double t) {
-  const Eigen::Vector2d c = obj.centre + obj.velocity * t;
+  const Eigen::Vector2d c = obj.centre_at(t);
   if (obj.shape == SceneObject::Shape::kCylinder) {
     const double r = obj.size.x();
     const Eigen::Vector2d oc = o.head<2>() - c;
@@ -140,7 +140,7 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
   // Objects that can be seen at all in this sweep (within range, wherever they move to).
   std::vector<const SceneObject*> near;
   for (const auto& obj : world.objects) {
-    const Eigen::Vector2d c = obj.centre + obj.velocity * (stamp + period / 2);
+    const Eigen::Vector2d c = obj.centre_at(stamp + period / 2);
     if ((c - sensor_mid.head<2>()).norm() - bounding_radius(obj) - obj.velocity.norm() * period <
         lidar.max_range) {
       near.push_back(&obj);
@@ -157,7 +157,7 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
     const Eigen::Vector3d horizontal = pose.linear() * Eigen::Vector3d(std::cos(az), std::sin(az), 0);
     std::vector<const SceneObject*> candidates;
     for (const auto* obj : near) {
-      const Eigen::Vector2d rel = obj->centre + obj->velocity * t - o.head<2>();
+      const Eigen::Vector2d rel = obj->centre_at(t) - o.head<2>();
       const double along = rel.dot(horizontal.head<2>());
       const double across = std::abs(rel.x() * horizontal.y() - rel.y() * horizontal.x());
       const double r = bounding_radius(*obj);

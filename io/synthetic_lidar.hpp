@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "io/scan.hpp"
@@ -22,7 +23,10 @@ struct LidarModel {
 };
 
 // An upright box (cars, buildings) or vertical cylinder (poles, pedestrians) standing on z = 0,
-// moving at a constant velocity (zero for static structure).
+// moving at a constant velocity (zero for static structure), optionally stopping on the way
+// (a car at a light): still from `stop_at` for `stop_for` seconds, then on at the same velocity.
+// A moving object is labelled moving in every scan, stopped or not: it is no part of the
+// static world.
 struct SceneObject {
   enum class Shape { kBox, kCylinder } shape = Shape::kBox;
   Eigen::Vector2d centre{0, 0};    // at time 0
@@ -31,7 +35,13 @@ struct SceneObject {
   Eigen::Vector3d size{1, 1, 1};   // box: length, width, height; cylinder: radius, -, height
   float intensity = 50.0f;
   std::uint32_t id = 0;  // instance id, written in the upper 16 bits of the labels
+  double stop_at = std::numeric_limits<double>::infinity();  // s
+  double stop_for = 0.0;                                      // s
   bool moving() const { return velocity.squaredNorm() > 0.0; }
+  Eigen::Vector2d centre_at(double t) const {
+    const double moved = t < stop_at ? t : t < stop_at + stop_for ? stop_at : t - stop_for;
+    return centre + velocity * moved;
+  }
 };
 
 struct SyntheticWorld {
