@@ -77,6 +77,19 @@ TEST(ObjectTracker, AnObjectSeenMovingInPlaceIsNotConfirmed) {
   for (const auto& s : run(tracker, std::move(scans))) EXPECT_EQ(s.tracked_points, 0u) << "scan " << s.index;
 }
 
+TEST(GridComponents, TouchingCellsJoinAndAGapOfACellSplits) {
+  // Cells of 0.3 m: x = 0.05, 0.35 (touching cells), 0.65 (touching again), then 1.25 (a gap of
+  // one empty cell), and an excluded point at 0.95 that would have bridged it.
+  Eigen::Matrix3Xf p(3, 5);
+  p << 0.05f, 0.35f, 0.65f, 1.25f, 0.95f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0;
+  const auto id = grid_components(p, {1, 1, 1, 1, 0}, 0.3);
+  EXPECT_EQ(id, (std::vector<std::int32_t>{0, 0, 0, 1, -1}));
+  // Diagonal neighbours touch too.
+  Eigen::Matrix3Xf q(3, 2);
+  q << 0.1f, 0.4f, 0.1f, 0.4f, 0.1f, 0.4f;
+  EXPECT_EQ(grid_components(q, {1, 1}, 0.3), (std::vector<std::int32_t>{0, 0}));
+}
+
 TEST(ObjectTracker, OffPassesScansThroughAtOnce) {
   ObjectTracker tracker(TrackRule{false, 15.0}, 5, 0.6);
   EXPECT_EQ(tracker.push(scan_of(0, {box(0, 0, 1, true)})).size(), 1u);
