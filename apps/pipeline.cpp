@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <tbb/parallel_invoke.h>
@@ -62,6 +63,11 @@ PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg) {
   const auto n = std::min(seq.size(), static_cast<std::size_t>(cfg.learn_scans));
   for (std::size_t i = 0; cfg.automatic && i < n; ++i) first.push_back(load_scan(seq, i).scan.points);
   return learn_platform_mask(first, cfg);
+}
+
+// Moves `more` onto the end of `into`.
+void append(std::vector<ScoredScan>& into, std::vector<ScoredScan> more) {
+  std::move(more.begin(), more.end(), std::back_inserter(into));
 }
 
 // Masked points leave the scan before anything sees it; their outputs are label 0 / NaN.
@@ -239,14 +245,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans
   double read_s = 0, odometry_s = 0, scoring_s = 0;
   std::size_t next = 0;
-  auto attach = [&](std::vector<ScoredScan> scored, Item& item) {
-    std::vector<ScoredScan> ready;
-    for (auto& s : scored) {
-      for (auto& r : tracker.push(std::move(s))) ready.push_back(std::move(r));
-    }
-    if (item.index + 1 == seq.size()) {
-      for (auto& r : tracker.finish()) ready.push_back(std::move(r));
-    }
+  auto attach = [&](std::vector<ScoredScan> ready, Item& item) {
     for (auto& r : ready) {
       auto labels = std::move(waiting[r.index]);
       waiting.erase(r.index);
@@ -294,11 +293,14 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               [&](std::shared_ptr<Item> item) {
                 const auto t = Clock::now();
                 waiting[item->index] = std::move(item->labels);
+                // Scorer, then tracker; at the log's end both hand over what they hold.
+                const bool last = item->index + 1 == seq.size();
                 auto scored = scorer.push(std::move(item->world));
-                if (item->index + 1 == seq.size()) {
-                  for (auto& r : scorer.finish()) scored.push_back(std::move(r));
-                }
-                attach(std::move(scored), *item);
+                if (last) append(scored, scorer.finish());
+                std::vector<ScoredScan> ready;
+                for (auto& s : scored) append(ready, tracker.push(std::move(s)));
+                if (last) append(ready, tracker.finish());
+                attach(std::move(ready), *item);
                 scoring_s += since(t);
                 return item;
               }) &

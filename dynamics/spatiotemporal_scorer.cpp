@@ -254,9 +254,7 @@ struct SpatiotemporalScorer::Impl {
 
   // Adds whole objects (clusters of non-ground points) to the per-point decisions, and drops
   // isolated detections (clusters with fewer than min_votes dynamic points).
-  void complete_objects(const WindowScan& w, PointDecisions& d) const {
-    std::vector<std::uint8_t> include(w.ground.size());
-    for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
+  void complete_objects(const WindowScan& w, const std::vector<std::uint8_t>& include, PointDecisions& d) const {
     // The share is of the scored points: unscored ones have no say.
     std::vector<std::uint8_t> scored(include.size());
     for (std::size_t i = 0; i < scored.size(); ++i) scored[i] = !std::isnan(d.score[i]);
@@ -272,9 +270,7 @@ struct SpatiotemporalScorer::Impl {
   // Every object of the scan (all clusters of non-ground points) for the tracker. On a grid of
   // half the cluster radius: a radius search from every non-ground point (all are seeds here)
   // cost 9 ms per scan on the 131k-point stream.
-  std::vector<std::int32_t> object_ids(const WindowScan& w) const {
-    std::vector<std::uint8_t> include(w.ground.size());
-    for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
+  std::vector<std::int32_t> object_ids(const WindowScan& w, const std::vector<std::uint8_t>& include) const {
     return grid_components(w.points, include, cfg.objects.radius / 2);
   }
 
@@ -305,9 +301,12 @@ struct SpatiotemporalScorer::Impl {
       out.dynamic_before_completion += d.dynamic[i];
     }
     // The scan's objects do not depend on the decisions: found while completion runs.
+    // Both work on the non-ground points.
+    std::vector<std::uint8_t> include(w.ground.size());
+    for (std::size_t i = 0; i < include.size(); ++i) include[i] = w.ground[i] ? 0 : 1;
     std::vector<std::int32_t> objects;
-    tbb::parallel_invoke([&] { if (cfg.object_completion) complete_objects(w, d); },
-                         [&] { if (cfg.tracks.enabled) objects = object_ids(w); });
+    tbb::parallel_invoke([&] { if (cfg.object_completion) complete_objects(w, include, d); },
+                         [&] { if (cfg.tracks.enabled) objects = object_ids(w, include); });
     if (cfg.tracks.enabled) {
       out.objects = describe_objects(w.points, objects, d.dynamic, cfg.objects.max_extent, w.owner);
     }

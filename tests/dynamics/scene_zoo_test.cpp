@@ -103,7 +103,6 @@ struct ZooRun {
   bool noise_floor = true;      // the scorer is told the poses' quality
 };
 const ZooRun kPerPoint{false, false};
-const ZooRun kObjects{true, false};
 
 MovingConfusion score_scene(const SyntheticWorld& world, const ZooRun& run = {}) {
   LidarModel lidar;
