@@ -1,8 +1,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include <tsl/robin_map.h>
+
+#include "io/voxel_key.hpp"
 
 namespace cleanmap {
 
@@ -21,7 +26,24 @@ struct GroundConfig {
 // Throws Error naming the bad setting.
 void validate(const GroundConfig& config);
 
-// 1 for ground points (world frame, z up), 0 for the rest.
-std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& config);
+// The lowest point each cell showed in the last `scans` scans (world frame). Scans that score
+// each other must agree on where the floor is: a gutter 0.2 m below the kerb, seen in one scan
+// and occluded in the next, otherwise flips the pavement between ground and non-ground, and a
+// point whose class differs from its neighbours' in the other scans meets only its own scan,
+// which looks like something that appeared (SemanticKITTI 07: half the false positives).
+struct GroundMemory {
+  struct Lowest {
+    float z = 0.0f;
+    std::size_t scan = 0;  // when z was seen
+  };
+  std::size_t scans = 0;   // how long a lowest point is remembered (0: not at all)
+  std::size_t now = 0;     // scans segmented so far
+  tsl::robin_map<VoxelKey, Lowest, VoxelKeyHash> lowest;  // key z is 0
+};
+
+// 1 for ground points (world frame, z up), 0 for the rest. With a memory, the floor also
+// rests on the lowest points of the remembered scans, and this scan's are remembered.
+std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& config,
+                                         GroundMemory* memory = nullptr);
 
 }  // namespace cleanmap

@@ -66,6 +66,7 @@ struct SpatiotemporalScorer::Impl {
   double cell = 0.0;
   std::vector<VoxelKey> offsets;  // cells that can hold points within `radius` of a query
   std::array<CellTable, 2> cells;  // fast mode statistics, by ground class
+  GroundMemory floor;              // the window's lowest points, for one floor across it
   std::deque<WindowScan> window;
   std::size_t pushed = 0;
   std::size_t scored = 0;  // scans [0, scored) have been returned
@@ -73,6 +74,8 @@ struct SpatiotemporalScorer::Impl {
 
   explicit Impl(const ScorerConfig& c) : cfg(c) {
     validate(cfg);
+    // Scans up to 2N apart score each other.
+    floor.scans = 2 * static_cast<std::size_t>(cfg.window_half) + 1;
     // Cells as large as the radius: 27 look-ups per point; halving them triples the time for
     // 0.3% more agreement with exact mode (measured on the synthetic street).
     cell = cfg.cell_size > 0 ? cfg.cell_size : cfg.radius;
@@ -148,7 +151,7 @@ struct SpatiotemporalScorer::Impl {
       w.time[k] = scan.stamp - *t0 + (scan.has_time() ? scan.time[keep[k]] : 0.0f);
     }
     w.ground = cfg.ground_aware
-                   ? segment_ground(w.points, cfg.ground)
+                   ? segment_ground(w.points, cfg.ground, &floor)
                    : std::vector<std::uint8_t>(keep.size(), 0);
     w.full = std::move(scan);
     return w;

@@ -1,0 +1,117 @@
+// Ground that real scans do not fool: returns from below the road, and a floor that stays the
+// same across the scans that score each other.
+#include <functional>
+#include <gtest/gtest.h>
+#include <vector>
+
+#include "dynamics/ground_segmentation.hpp"
+
+namespace cleanmap {
+namespace {
+
+struct Cloud {
+  std::vector<Eigen::Vector3f> pts;
+  void grid(double x0, double x1, double y0, double y1, const std::function<double(double, double)>& z) {
+    for (double x = x0; x < x1; x += 0.2) {
+      for (double y = y0; y < y1; y += 0.2) pts.emplace_back(float(x), float(y), float(z(x, y)));
+    }
+  }
+  Eigen::Matrix3Xf matrix() const {
+    Eigen::Matrix3Xf m(3, static_cast<Eigen::Index>(pts.size()));
+    for (std::size_t i = 0; i < pts.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = pts[i];
+    return m;
+  }
+};
+
+// Share of the points in [first, last) labelled ground.
+double ground_share(const std::vector<std::uint8_t>& g, std::size_t first, std::size_t last) {
+  double n = 0;
+  for (std::size_t i = first; i < last; ++i) n += g[i];
+  return n / static_cast<double>(last - first);
+}
+
+TEST(GroundSegmentation, ReturnsFromBelowTheRoadDoNotSinkTheFloor) {
+  // A flat road and a 0.15 m kerb, plus a mirror image in a wet patch: three returns 3.7 m
+  // under the road in one cell (as on SemanticKITTI 07). The old floor (lowest point, bounded by
+  // the slope envelope) sank every cell within 3 m and made the road around it non-ground.
+  Cloud c;
+  c.grid(-10, 10, -10, 2, [](double, double) { return 0.0; });
+  c.grid(-10, 10, 2, 6, [](double, double) { return 0.15; });
+  const std::size_t surface = c.pts.size();
+  for (float dy : {0.0f, 0.1f, 0.2f}) c.pts.emplace_back(2.3f, -1.5f + dy, -3.7f);
+  const auto g = segment_ground(c.matrix(), GroundConfig{});
+  EXPECT_EQ(ground_share(g, 0, surface), 1.0);
+}
+
+TEST(GroundSegmentation, AFloorDeeperThanASlopeExplainsIsStillGroundWhereItIsTheWholeBlock) {
+  // A sunken yard 1.5 m below the street, 8 m wide: inside it the yard is its cells' own floor
+  // (their 3x3 median), so the rule against returns from below keeps it ground.
+  Cloud c;
+  c.grid(-10, 10, -10, 10, [](double x, double y) { return std::abs(x) < 4 && std::abs(y) < 4 ? -1.5 : 0.0; });
+  const auto m = c.matrix();
+  const auto g = segment_ground(m, GroundConfig{});
+  std::size_t yard = 0, yard_ground = 0;
+  for (Eigen::Index i = 0; i < m.cols(); ++i) {
+    if (std::abs(m(0, i)) < 2.5 && std::abs(m(1, i)) < 2.5) {
+      ++yard;
+      yard_ground += g[static_cast<std::size_t>(i)];
+    }
+  }
+  ASSERT_GT(yard, 0u);
+  EXPECT_EQ(yard_ground, yard);
+}
+
+// A pavement 0.3 m above the road beside it. `road` says whether this scan sees the road (the
+// parked cars hide it in the next).
+Cloud street(bool road) {
+  Cloud c;
+  if (road) c.grid(-10, 10, -6, 0, [](double, double) { return 0.0; });
+  c.grid(-10, 10, 0, 6, [](double, double) { return 0.3; });
+  return c;
+}
+
+// Ground share of the pavement's first metre beside the kerb.
+double kerb_share(const Cloud& c, const std::vector<std::uint8_t>& g) {
+  double n = 0, k = 0;
+  for (std::size_t i = 0; i < c.pts.size(); ++i) {
+    if (c.pts[i].y() >= 0 && c.pts[i].y() < 1) {
+      ++n;
+      k += g[i];
+    }
+  }
+  return k / n;
+}
+
+TEST(GroundSegmentation, TheMemoryKeepsOneFloorAcrossScansThatSeeDifferentParts) {
+  const GroundConfig config;
+  const Cloud seen = street(true), hidden = street(false);
+  // Alone, the two scans disagree on the pavement beside the kerb: a floor 0.3 m lower in the
+  // 3x3 block in one, none in the other.
+  EXPECT_EQ(kerb_share(seen, segment_ground(seen.matrix(), config)), 0.0);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config)), 1.0);
+  // With a memory of 3 scans the second scan takes the first's floor, until it is forgotten.
+  GroundMemory memory;
+  memory.scans = 3;
+  EXPECT_EQ(kerb_share(seen, segment_ground(seen.matrix(), config, &memory)), 0.0);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config, &memory)), 0.0);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config, &memory)), 0.0);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config, &memory)), 1.0);
+  EXPECT_EQ(memory.now, 4u);
+}
+
+TEST(GroundSegmentation, TheMemoryForgetsALowerFloorOnlyWhenItAges) {
+  // The remembered floor is the lowest of the span, not the last one seen: a scan that sees the
+  // road again renews it.
+  const GroundConfig config;
+  const Cloud seen = street(true), hidden = street(false);
+  GroundMemory memory;
+  memory.scans = 2;
+  segment_ground(seen.matrix(), config, &memory);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config, &memory)), 0.0);
+  segment_ground(seen.matrix(), config, &memory);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config, &memory)), 0.0);
+  EXPECT_EQ(kerb_share(hidden, segment_ground(hidden.matrix(), config, &memory)), 1.0);
+}
+
+}  // namespace
+}  // namespace cleanmap
