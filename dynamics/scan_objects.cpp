@@ -60,7 +60,7 @@ std::vector<std::int32_t> grid_components(const Eigen::Matrix3Xf& points,
 
 ScanObjects describe_objects(const Eigen::Matrix3Xf& points, const std::vector<std::int32_t>& id,
                              const std::vector<std::uint8_t>& dynamic, double max_extent,
-                             const std::vector<std::int32_t>& owner) {
+                             int min_points, const std::vector<std::int32_t>& owner) {
   std::int32_t clusters = 0;
   for (auto c : id) clusters = std::max(clusters, c + 1);
   const auto k = static_cast<std::size_t>(clusters);
@@ -86,7 +86,7 @@ ScanObjects describe_objects(const Eigen::Matrix3Xf& points, const std::vector<s
   std::vector<std::int32_t> renumber(k, -1);
   for (std::size_t c = 0; c < k; ++c) {
     ScanObject& o = all[c];
-    if (o.points == 0 || (o.hi - o.lo).head<2>().norm() > max_extent) continue;
+    if (static_cast<int>(o.points) < std::max(min_points, 1) || (o.hi - o.lo).head<2>().norm() > max_extent) continue;
     o.centroid = sum[c] / static_cast<float>(o.points);
     o.seen_moving = 2 * moving[c] >= o.points;
     renumber[c] = static_cast<std::int32_t>(out.objects.size());

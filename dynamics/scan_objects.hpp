@@ -29,9 +29,12 @@ std::vector<std::int32_t> grid_components(const Eigen::Matrix3Xf& points,
 
 // Objects from cluster ids (per downsampled point, -1 = none) and the scan's decisions. A
 // cluster wider than `max_extent` (horizontally) is no object (a building, a row of parked
-// cars): its points get -1. `owner` maps each full-resolution point to its downsampled one.
+// cars): its points get -1, as do clusters of fewer than `min_points` points: too few to vote
+// as an object in completion (ObjectRule::min_votes), too few for a centroid to follow; on the
+// 131k-point stream three in four clusters are such specks, and matching them cost 4 ms a scan.
+// `owner` maps each full-resolution point to its downsampled one.
 ScanObjects describe_objects(const Eigen::Matrix3Xf& points, const std::vector<std::int32_t>& id,
                              const std::vector<std::uint8_t>& dynamic, double max_extent,
-                             const std::vector<std::int32_t>& owner);
+                             int min_points, const std::vector<std::int32_t>& owner);
 
 }  // namespace cleanmap

@@ -311,7 +311,8 @@ struct SpatiotemporalScorer::Impl {
     tbb::parallel_invoke([&] { if (cfg.object_completion) complete_objects(w, include, d); },
                          [&] { if (cfg.tracks.enabled) objects = object_ids(w, include); });
     if (cfg.tracks.enabled) {
-      out.objects = describe_objects(w.points, objects, d.dynamic, cfg.objects.max_extent, w.owner);
+      out.objects = describe_objects(w.points, objects, d.dynamic, cfg.objects.max_extent,
+                                     cfg.objects.min_votes, w.owner);
     }
     for (auto v : d.dynamic) out.dynamic_downsampled += v;
     auto full = upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius);

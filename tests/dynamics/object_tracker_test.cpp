@@ -90,6 +90,26 @@ TEST(GridComponents, TouchingCellsJoinAndAGapOfACellSplits) {
   EXPECT_EQ(grid_components(q, {1, 1}, 0.3), (std::vector<std::int32_t>{0, 0}));
 }
 
+TEST(DescribeObjects, SpecksAndBuildingsAreNoObjects) {
+  // Cluster 0: three points, two dynamic (seen moving); cluster 1: two points (a speck, under
+  // min_points 3); cluster 2: 20 m wide (a building front); -1: ground.
+  Eigen::Matrix3Xf p(3, 8);
+  p << 0, 0.2f, 0.4f, 5, 5.1f, 10, 30, 3,  //
+      0, 0, 0, 0, 0, 0, 0, 0,               //
+      1, 1, 1, 1, 1, 1, 1, 0;
+  const std::vector<std::int32_t> id{0, 0, 0, 1, 1, 2, 2, -1};
+  const std::vector<std::uint8_t> dynamic{1, 1, 0, 1, 1, 0, 0, 0};
+  const std::vector<std::int32_t> owner{0, 1, 2, 3, 4, 5, 6, 7, 0};  // a full point per downsampled one, and one more
+  const auto out = describe_objects(p, id, dynamic, 12.0, 3, owner);
+  ASSERT_EQ(out.objects.size(), 1u);
+  EXPECT_EQ(out.objects[0].points, 3u);
+  EXPECT_TRUE(out.objects[0].seen_moving);
+  EXPECT_FLOAT_EQ(out.objects[0].centroid.x(), 0.2f);
+  EXPECT_EQ(out.of_point, (std::vector<std::int32_t>{0, 0, 0, -1, -1, -1, -1, -1, 0}));
+  // With min_points 2 the speck is an object too.
+  EXPECT_EQ(describe_objects(p, id, dynamic, 12.0, 2, owner).objects.size(), 2u);
+}
+
 TEST(ObjectTracker, OffPassesScansThroughAtOnce) {
   ObjectTracker tracker(TrackRule{false, 15.0}, 5, 0.6);
   EXPECT_EQ(tracker.push(scan_of(0, {box(0, 0, 1, true)})).size(), 1u);
