@@ -3,6 +3,10 @@
 # ground truth (the real sequences in ../shared/data and the synthetic street), scored against
 # that ground truth, all ranges and within 20 m of the sensor, plus the run's speed.
 #
+# A second table scores the cleaned maps in the DynamicMap benchmark's way (SA/DA/AA/HA of
+# `cleanmap eval map`): the real labelled sequences are first written in its layout
+# (build/bench/dynamicmap_layout; the Pandar64 street with the poses of its run above).
+#
 # Usage: bash bench/quality.sh [BUILD_DIR] [WORK_DIR] [-- extra run options]
 #   BUILD_DIR: the build to measure (default build); WORK_DIR: where the runs go (default a
 #   temporary folder, removed afterwards). Extra options after `--` go to every `run`.
@@ -62,4 +66,31 @@ for entry in "${sets[@]}"; do
   printf '%-26s %6s %6s %6s   %6s %6s %6s   %7s\n' "$name" \
     "$(metric "$out/all.json" iou)" "$(metric "$out/all.json" precision)" "$(metric "$out/all.json" recall)" \
     "$(metric "$out/near.json" iou)" "$(metric "$out/near.json" precision)" "$(metric "$out/near.json" recall)" "$rate"
+done
+
+# name | DynamicMap-layout source | converter options | run options
+dm_sets=(
+  "semantickitti/01|$data/semantickitti/01||--config $here/config/kitti-hdl64.yaml"
+  "semantickitti/04|$data/semantickitti/04||--config $here/config/kitti-hdl64.yaml"
+  "semantickitti/07|$data/semantickitti/07||--config $here/config/kitti-hdl64.yaml"
+  "pandar64_street (boxes)|$data/pandar64_street|--poses $work/pandar64_street__boxes_/poses.txt|--config $here/config/pandar64.yaml"
+  "synthetic street|$work/synthetic/sequence||--voxel-size 0.1"
+)
+convert="$build/bench/dynamicmap_layout"
+echo
+printf '%-26s %7s %7s %7s %7s   %7s\n' "DynamicMap layout" "SA" "DA" "AA" "HA" "scans/s"
+for entry in "${dm_sets[@]}"; do
+  IFS='|' read -r name input conv_opts run_opts <<< "$entry"
+  dm="$work/dm_$(echo "$name" | tr -c 'a-zA-Z0-9\n' '_')"
+  rm -rf "$dm" "$dm.run"
+  # shellcheck disable=SC2086
+  if ! "$convert" --input "$input" --out "$dm" $conv_opts > "$dm.log" 2>&1 ||
+     ! "$cm" run --input "$dm" --out "$dm.run" $run_opts "${extra[@]}" >> "$dm.log" 2>&1; then
+    printf '%-26s failed: %s\n' "$name" "$(tail -n 1 "$dm.log")"
+    continue
+  fi
+  "$cm" eval map --gt "$dm/gt_cloud.pcd" --output "$dm.run/map_static.pcd" --json "$dm.run/map.json" > /dev/null
+  rate=$(python3 -c "import json,sys; print('%.1f' % json.load(open(sys.argv[1]))['scans_per_second'])" "$dm.run/summary.json")
+  m() { python3 -c "import json,sys; print('%.2f' % json.load(open(sys.argv[1]))[sys.argv[2]])" "$dm.run/map.json" "$1"; }
+  printf '%-26s %7s %7s %7s %7s   %7s\n' "$name" "$(m SA)" "$(m DA)" "$(m AA)" "$(m HA)" "$rate"
 done

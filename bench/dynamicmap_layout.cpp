@@ -1,0 +1,136 @@
+// Turns a labelled sequence (SemanticKITTI labels/, or boxes/ with poses) into the DynamicMap
+// benchmark's layout (Zhang et al., KTH): pcd/NNNNNN.pcd in the world frame with the sensor
+// pose as VIEWPOINT, and gt_cloud.pcd, every point of every scan with intensity 1 when it
+// moves and 0 when not. `cleanmap run --input OUT` then cleans it, and
+// `cleanmap eval map --gt OUT/gt_cloud.pcd --output RUN/map_static.pcd` scores the result.
+//
+//   dynamicmap_layout --input SEQ --out DIR [--poses FILE] [--speed 0.5] [--box-margin 0.1]
+//
+// The recording platform (points fixed in the sensor frame, learnt as `cleanmap run` does) is
+// left out, as the benchmark's own sequences have the ego vehicle removed. Non-finite points
+// are left out too.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "evaluation/box_labels.hpp"
+#include "io/cloud_file.hpp"
+#include "io/error.hpp"
+#include "io/label_file.hpp"
+#include "io/sequence.hpp"
+#include "odometry/platform_mask.hpp"
+
+namespace fs = std::filesystem;
+using namespace cleanmap;
+
+namespace {
+
+struct Args {
+  fs::path input, out, poses;
+  double speed = 0.5;
+  double box_margin = 0.1;
+};
+
+// Per-point truth of scan i, 1 = moving.
+class Truth {
+ public:
+  Truth(const Sequence& seq, const Args& a) : seq_(seq), margin_(a.box_margin) {
+    if (seq.has_labels()) return;
+    if (!fs::is_directory(a.input / "boxes")) {
+      throw Error(a.input.string() + ": has neither labels/ (.label files) nor boxes/ (3D boxes)");
+    }
+    for (const auto& scan : seq.scans) {
+      const auto file = a.input / "boxes" / (scan.stem().string() + ".json");
+      boxes_.push_back(fs::exists(file) ? read_boxes(file) : std::vector<LabelBox>{});
+    }
+    moving_ = moving_boxes(boxes_, seq.poses, seq.times, a.speed);
+  }
+  std::vector<std::uint8_t> of(std::size_t i, const Scan& raw) const {
+    const auto labels = boxes_.empty() ? read_labels(seq_.labels[i], raw.size())
+                                       : labels_from_boxes(raw, boxes_[i], moving_[i], margin_);
+    std::vector<std::uint8_t> out(labels.size());
+    for (std::size_t k = 0; k < labels.size(); ++k) out[k] = is_moving_label(labels[k]) ? 1 : 0;
+    return out;
+  }
+
+ private:
+  const Sequence& seq_;
+  double margin_;
+  std::vector<std::vector<LabelBox>> boxes_;
+  std::vector<std::vector<bool>> moving_;
+};
+
+void convert(const Args& a) {
+  SequenceOptions so;
+  so.poses_file = a.poses;
+  const Sequence seq = open_sequence(a.input, so);
+  if (seq.world_frame) throw Error(a.input.string() + ": already in the DynamicMap layout");
+  if (!seq.has_poses()) throw Error(a.input.string() + ": no poses (give --poses, e.g. a run's poses.txt)");
+  const Truth truth(seq, a);
+  PlatformMaskConfig mask_cfg;
+  std::vector<Eigen::Matrix3Xf> first;
+  for (std::size_t i = 0; i < std::min<std::size_t>(seq.size(), mask_cfg.learn_scans); ++i) {
+    first.push_back(load_scan(seq, i).scan.points);
+  }
+  const PlatformMask mask = learn_platform_mask(first, mask_cfg);
+  fs::create_directories(a.out / "pcd");
+  std::vector<Eigen::Vector3f> gt_points;
+  std::vector<float> gt_moving;
+  std::size_t masked = 0, moving = 0;
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    const Scan raw = read_scan_file(seq.scans[i], seq.cloud);
+    const auto is_moving = truth.of(i, raw);
+    std::vector<std::int32_t> keep;
+    for (Eigen::Index k = 0; k < raw.points.cols(); ++k) {
+      const Eigen::Vector3f p = raw.points.col(k);
+      if (!p.allFinite()) continue;
+      if (!mask.empty() && mask.contains(p)) {
+        ++masked;
+        continue;
+      }
+      keep.push_back(static_cast<std::int32_t>(k));
+    }
+    Scan world = select_points(raw, keep);
+    world.time.resize(0);  // the benchmark's files carry x y z intensity
+    world.points = (seq.poses[i].cast<float>() * world.points).eval();
+    CloudWriteOptions o;
+    o.viewpoint = seq.poses[i];
+    char name[32];
+    std::snprintf(name, sizeof name, "%06zu.pcd", i);
+    write_cloud(a.out / "pcd" / name, world, {}, o);
+    for (std::size_t j = 0; j < keep.size(); ++j) {
+      gt_points.push_back(world.points.col(static_cast<Eigen::Index>(j)));
+      gt_moving.push_back(is_moving[static_cast<std::size_t>(keep[j])]);
+      moving += is_moving[static_cast<std::size_t>(keep[j])];
+    }
+  }
+  Scan gt;
+  gt.points.resize(3, static_cast<Eigen::Index>(gt_points.size()));
+  for (std::size_t k = 0; k < gt_points.size(); ++k) gt.points.col(static_cast<Eigen::Index>(k)) = gt_points[k];
+  gt.intensity = Eigen::Map<Eigen::VectorXf>(gt_moving.data(), static_cast<Eigen::Index>(gt_moving.size()));
+  write_cloud(a.out / "gt_cloud.pcd", gt);
+  std::printf("%s: %zu scans, %zu points (%zu moving), %zu platform points left out\n", a.out.c_str(),
+              seq.size(), gt_points.size(), moving, masked);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"A labelled sequence in the DynamicMap benchmark layout (pcd/ + gt_cloud.pcd)"};
+  Args a;
+  app.add_option("--input", a.input, "Sequence with labels/ or boxes/")->required();
+  app.add_option("--out", a.out, "Output folder")->required();
+  app.add_option("--poses", a.poses, "Pose file (default: the sequence's poses.txt)");
+  app.add_option("--speed", a.speed, "Boxes faster than this (m/s, world frame) are moving")->capture_default_str();
+  app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    convert(a);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dynamicmap_layout: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
