@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -32,6 +33,7 @@ struct DemoArgs {
   fs::path out = "cleanmap-demo";
   fs::path config;
   bool generate_only = false;
+  bool static_scene = false;
   SyntheticConfig cli;  // values as given on the command line
 };
 
@@ -57,7 +59,12 @@ void run_demo(const CLI::App& cmd, const DemoArgs& args) {
   summary["synthetic"] = to_json(cfg, fields);
   write_summary(args.out, summary, false);
 
-  const auto world = make_street_world(cfg.seed);
+  auto world = make_street_world(cfg.seed);
+  if (args.static_scene) {
+    world.objects.erase(std::remove_if(world.objects.begin(), world.objects.end(),
+                                       [](const SceneObject& o) { return o.moving(); }),
+                        world.objects.end());
+  }
   std::vector<Eigen::Isometry3d> poses;
   std::vector<StampedPose> stamped;
   std::vector<double> times;
@@ -94,7 +101,7 @@ void run_demo(const CLI::App& cmd, const DemoArgs& args) {
     PipelineConfig pipeline;
     pipeline.scorer.voxel_size = 0.1;  // the scene spans 200 m: the relative d_v would be 0.4 m
     pipeline.input.eval_max_range = 20.0;
-    run_pipeline({seq, args.out / "run", true, true, "demo run"}, pipeline, {});
+    run_pipeline({seq, args.out / "run", true, true, "demo run", true}, pipeline, {});
     summary["run"] = (args.out / "run").string();
   }
   write_summary(args.out, summary, true);
@@ -119,6 +126,7 @@ void register_demo(CLI::App& app) {
   cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
   cmd->add_option("--config", args->config, "YAML preset (section 'synthetic')");
   cmd->add_flag("--generate-only", args->generate_only, "Only write the synthetic sequence");
+  cmd->add_flag("--static-scene", args->static_scene, "Nothing moves but the sensor (a check: nothing should be removed)");
   add_options(*cmd, args->cli, synthetic_fields());
   cmd->callback([cmd, args] { run_guarded(args->out, "demo", [&] { run_demo(*cmd, *args); }); });
 }

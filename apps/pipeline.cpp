@@ -17,6 +17,7 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_pipeline.h>
 
+#include "apps/offline_spill.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/progress.hpp"
 #include "dynamics/ground_segmentation.hpp"
@@ -28,6 +29,8 @@
 #include "mapping/free_space_vote.hpp"
 #include "mapping/octomap_builder.hpp"
 #include "mapping/point_cloud_map.hpp"
+#include "mapping/visibility_map.hpp"
+#include "mapping/whole_log_vote.hpp"
 #include "odometry/deskew.hpp"
 #include "odometry/lidar_odometry.hpp"
 
@@ -65,6 +68,19 @@ PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg) {
   return learn_platform_mask(first, cfg);
 }
 
+// Per-point labels of `before` for the points `after` kept of it (both know their points'
+// places in the input file).
+std::vector<std::uint32_t> follow_points(const Scan& before, const std::vector<std::uint32_t>& labels,
+                                         const Scan& after) {
+  if (labels.empty() || after.size() == before.size()) return labels;
+  const auto by_input = to_input_order(before, labels, kLabelUnscored);
+  std::vector<std::uint32_t> out(after.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = by_input[after.input_index.empty() ? i : static_cast<std::size_t>(after.input_index[i])];
+  }
+  return out;
+}
+
 // Moves `more` onto the end of `into`.
 void append(std::vector<ScoredScan>& into, std::vector<ScoredScan> more) {
   std::move(more.begin(), more.end(), std::back_inserter(into));
@@ -91,6 +107,8 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   validate(cfg.scorer);
   if (opt.mapping) validate(cfg.mapping.map);
   if (opt.mapping && cfg.mapping.free_space) validate(cfg.mapping.free_space_objects, "mapping: free space vote");
+  const bool offline = opt.offline && opt.mapping;
+  if (offline) validate(cfg.mapping.visibility);
   const Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
   // DynamicMap sequences are registered already: no odometry, and the output keeps every raw
   // input point that is not removed (never voxel centres or re-posed copies), as that
@@ -107,6 +125,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   summary["command"] = opt.command;
   summary["input"] = opt.input.string();
   summary["layout"] = seq.layout;
+  summary["mode"] = offline ? "offline" : "online";
   summary["times"] = seq.times_source;
   summary["poses"] = use_odometry ? "odometry" : seq.world_frame ? "VIEWPOINT (world-frame scans)" : seq.poses_source;
   summary["input_settings"] = to_json(cfg.input, input_fields());
@@ -123,6 +142,17 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   if (use_odometry) odom = std::make_unique<LidarOdometry>(cfg.odometry);
   std::unique_ptr<OctoMapBuilder> octo;
   if (opt.mapping) octo = std::make_unique<OctoMapBuilder>(cfg.mapping.map);
+  std::unique_ptr<VisibilityMap> visibility;
+  const fs::path spill_dir = opt.out / ".offline";
+  if (offline) {
+    VisibilityConfig v = cfg.mapping.visibility;
+    v.prob_hit = cfg.mapping.map.prob_hit;  // one weighing of hits and misses for both maps
+    v.prob_miss = cfg.mapping.map.prob_miss;
+    v.free_probability = cfg.mapping.map.free_probability;
+    visibility = std::make_unique<VisibilityMap>(v);
+    make_dirs(spill_dir);
+  }
+  std::size_t void_added = 0, void_vetoed = 0;
   SpatiotemporalScorer scorer(cfg.scorer);
   ObjectTracker tracker(cfg.scorer.tracks, cfg.scorer.window_half, cfg.scorer.objects.radius);
   const double cloud_voxel = seq.world_frame ? 0.0 : opt.mapping ? cfg.mapping.cloud_voxel : 0.05;
@@ -135,7 +165,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
   std::map<std::string, double> stage_seconds{{"read", 0}, {"odometry", 0}, {"scoring", 0},
                                               {"mapping", 0}, {"write", 0}};
-  Progress progress(opt.command, seq.size());
+  Progress progress(offline ? opt.command + " (pass 1 of 2)" : opt.command, seq.size());
 
   std::mutex odom_mutex;  // the pipeline's first stage registers, its last feeds dynamics back
   std::vector<Clock::time_point> finished_at;  // when each input scan that released output was written
@@ -251,6 +281,67 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
       item.scored.emplace_back(std::move(r), std::move(labels));
     }
   };
+  // Offline pass 2: every spilled scan, in order, judged with the whole log's visibility
+  // (read-only by now, so scans are judged side by side), then mapped and written.
+  double visibility_s = 0, judging_s = 0;
+  auto judge_offline = [&] {
+    // Every scan's rays, once every scan's hits are in (the spills hold the world-frame scans).
+    Progress rays(opt.command + " (rays)", seq.size());
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      const auto t = Clock::now();
+      const SpilledScan s = read_spill(spill_dir / (scan_name(i) + ".spill"));
+      if (s.scored.scan.pose) visibility->add_rays(s.scored.scan.points, s.scored.scan.pose->translation());
+      visibility_s += since(t);
+      rays.update(i + 1);
+    }
+    rays.finish();
+    Progress pass2(opt.command + " (pass 2 of 2)", seq.size());
+    std::size_t next_spill = 0;
+    std::mutex judged;
+    tbb::parallel_pipeline(
+        4,
+        tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
+            tbb::filter_mode::serial_in_order,
+            [&](tbb::flow_control& fc) -> std::shared_ptr<SpilledScan> {
+              if (next_spill == seq.size()) {
+                fc.stop();
+                return nullptr;
+              }
+              const fs::path file = spill_dir / (scan_name(next_spill++) + ".spill");
+              auto s = std::make_shared<SpilledScan>(read_spill(file));
+              fs::remove(file);
+              return s;
+            }) &
+            tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
+                tbb::filter_mode::parallel,
+                [&](std::shared_ptr<SpilledScan> s) {
+                  const auto t = Clock::now();
+                  ScoredScan& r = s->scored;
+                  const auto verdict = judge_with_log(
+                      r.scan.points, r.dynamic, *visibility,
+                      [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, cfg.scorer.ground); },
+                      cfg.mapping.free_space_objects, r.scans_before == 0 || r.scans_after == 0);
+                  std::lock_guard<std::mutex> lock(judged);
+                  void_added += verdict.added;
+                  void_vetoed += verdict.vetoed;
+                  judging_s += since(t);
+                  return s;
+                }) &
+            tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
+                tbb::filter_mode::serial_in_order,
+                [&](std::shared_ptr<SpilledScan> s) {
+                  map_scan(s->scored);
+                  return s;
+                }) &
+            tbb::make_filter<std::shared_ptr<SpilledScan>, void>(
+                tbb::filter_mode::serial_in_order, [&](std::shared_ptr<SpilledScan> s) {
+                  write_scan(s->scored, s->labels);
+                  pass2.update(s->scored.index + 1);
+                }));
+    pass2.finish();
+    fs::remove_all(spill_dir);
+    stage_seconds["judging"] = judging_s;
+  };
   tbb::parallel_pipeline(
       4,
       tbb::make_filter<void, std::shared_ptr<Item>>(
@@ -276,6 +367,10 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               item->world.points = (step.pose.cast<float>() * item->world.points).eval();
               item->world.pose = step.pose;
               poses.push_back({loaded.scan.stamp + step.reference_offset, step.pose});
+              // Odometry keeps the returns within its range limits: the labels follow them (they
+              // had stayed in the loaded order, and every label after the first dropped point
+              // counted against the wrong point in summary.json's metrics).
+              item->labels = follow_points(loaded.scan, item->labels, item->world);
             } else if (seq.world_frame) {
               poses.push_back({loaded.scan.stamp, *loaded.scan.pose});
               item->world = std::move(loaded.scan);
@@ -306,20 +401,38 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
           tbb::make_filter<std::shared_ptr<Item>, std::shared_ptr<Item>>(
               tbb::filter_mode::serial_in_order,
               [&](std::shared_ptr<Item> item) {
-                for (auto& [r, labels] : item->scored) map_scan(r);
+                for (auto& [r, labels] : item->scored) {
+                  if (!offline) {
+                    map_scan(r);
+                    continue;
+                  }
+                  const auto t = Clock::now();
+                  visibility->add_hits(r.scan.points);
+                  visibility_s += since(t);
+                }
                 return item;
               }) &
           tbb::make_filter<std::shared_ptr<Item>, void>(
               tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Item> item) {
-                for (auto& [r, labels] : item->scored) write_scan(r, labels);
+                for (auto& [r, labels] : item->scored) {
+                  if (offline) {
+                    write_spill(spill_dir / (scan_name(r.index) + ".spill"), r, labels);
+                  } else {
+                    write_scan(r, labels);
+                  }
+                }
                 if (!item->scored.empty()) finished_at.push_back(Clock::now());
               }));
+  progress.finish();
+  if (offline) {
+    judge_offline();
+    stage_seconds["visibility"] = visibility_s;
+  }
   stage_seconds["mapping"] = mapping_s;
   stage_seconds["write"] = write_s;
   stage_seconds["read"] = read_s;
   stage_seconds["odometry"] = odometry_s;
   stage_seconds["scoring"] = scoring_s;
-  progress.finish();
 
   auto t = Clock::now();
   // The map files are independent of each other: written side by side, but the large clouds
@@ -352,6 +465,12 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   summary["dynamic_points"] = dynamic_points;
   summary["unscored_points"] = unscored;
   summary["free_space_added_points"] = free_space_added;
+  if (offline) {
+    summary["visibility"] = {{"cells", visibility->cells()},
+                             {"resolution", cfg.mapping.visibility.resolution},
+                             {"added_points", void_added},
+                             {"vetoed_points", void_vetoed}};
+  }
   summary["tracked_points"] = tracked;
   summary["non_finite_dropped"] = dropped;
   summary["platform_mask"] = {{"masked_points", masked}, {"learnt_cells", mask.cells.size()},
@@ -364,7 +483,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   // in bursts (the scorer's first full window releases N scans at once, the log's last scan
   // releases all that the scorer and the tracker hold, mapped before the first is written);
   // counting them read 22 scans/s as 28 without the tracker and as 16 with it.
-  if (finished_at.size() >= 3) {
+  if (!offline && finished_at.size() >= 3) {
     const double span = std::chrono::duration<double>(finished_at[finished_at.size() - 2] - finished_at[0]).count();
     summary["sustained_scans_per_second"] = span > 0 ? static_cast<double>(finished_at.size() - 2) / span : 0.0;
   }

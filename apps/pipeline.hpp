@@ -10,13 +10,17 @@
 
 namespace cleanmap::app {
 
-// What one streaming pass does: poses (given, or from odometry) -> scorer -> (map), in one pass
-// with only the scorer's window in memory.
+// What a run does: poses (given, or from odometry) -> scorer -> (map). Online: one streaming
+// pass with only the scorer's window in memory; decisions use the past and the window only.
+// Offline (mapping only): a first pass scores every scan and casts its rays into the log-wide
+// visibility map, spilling each scan to disk; a second pass re-reads them and judges every
+// point with what the whole log saw through, before and after.
 struct PipelineOptions {
   std::filesystem::path input, out;
   bool odometry = false;  // estimate poses (otherwise the sequence must have them)
   bool mapping = false;   // build the OctoMap and map clouds
   std::string command;
+  bool offline = false;   // two passes (needs mapping)
 };
 
 // Writes every output into options.out, summary.json last; throws Error on bad input (the

@@ -28,6 +28,7 @@ void register_run(CLI::App& app) {
   struct Args {
     fs::path input, out = "cleanmap-run", config;
     bool use_given_poses = false;
+    bool online = false;
     PresetOptions options;
   };
   auto args = std::make_shared<Args>();
@@ -38,13 +39,16 @@ void register_run(CLI::App& app) {
   cmd->add_option("--config", args->config, "YAML preset (sections input, odometry, scorer, mapping)");
   cmd->add_flag("--use-given-poses", args->use_given_poses,
                 "Take poses from --poses or the sequence's poses.txt instead of running odometry");
+  cmd->add_flag("--online", args->online,
+                "One streaming pass, as for a live sensor: decisions see the past and the scorer's window "
+                "only (default: two passes, the whole log's visibility judges every scan)");
   args->options.add_to(*cmd, PresetOptions::kOdometry | PresetOptions::kScorer | PresetOptions::kMapping);
   cmd->callback([cmd, args] {
     run_guarded(args->out, "run", [&] {
       const PipelineConfig cfg = args->options.resolve(*cmd, args->config);
       // An explicit --poses file means "use these poses" too.
       const bool given = args->use_given_poses || !cfg.input.poses.empty();
-      run_pipeline({args->input, args->out, !given, true, "run"}, cfg, {});
+      run_pipeline({args->input, args->out, !given, true, "run", !args->online}, cfg, {});
     });
   });
 }

@@ -10,6 +10,7 @@
 #include "io/sequence.hpp"
 #include "mapping/free_space_vote.hpp"
 #include "mapping/octomap_builder.hpp"
+#include "mapping/visibility_map.hpp"
 #include "odometry/odometry_config.hpp"
 #include "odometry/platform_mask.hpp"
 
@@ -129,6 +130,7 @@ struct MappingSettings {
   bool write_raw_map = false;     // also map_raw.pcd: the map without removal
   bool free_space = true;         // add the OctoMap free-space opinion to the scorer's
   ObjectRule free_space_objects = kFreeSpaceRule;  // when a cluster is dynamic by free space
+  VisibilityConfig visibility;    // offline runs: the log-wide map of cells seen through
   bool occupancy_grid = false;    // 2D grid (PGM + YAML, ROS map_server)
   double grid_z_min = 0.3;        // heights (world z) that count for the grid, m
   double grid_z_max = 2.0;
@@ -152,6 +154,9 @@ inline auto mapping_fields() {
       CLEANMAP_FIELD("free_space_min_hits", free_space_objects.min_votes, "0.2 m voxels of a cluster that must lie in free space"),
       CLEANMAP_FIELD("free_space_cluster_radius", free_space_objects.radius, "Free-space vote: clustering distance, m"),
       CLEANMAP_FIELD("free_space_max_extent", free_space_objects.max_extent, "Free-space vote: wider clusters are split, m"),
+      CLEANMAP_FIELD("visibility_resolution", visibility.resolution, "Offline: cells of the log-wide visibility map, m"),
+      CLEANMAP_FIELD("visibility_margin", visibility.margin, "Offline: rays stop this short of their hit, m"),
+      CLEANMAP_FIELD("visibility_max_range", visibility.max_range, "Offline: longer rays are not cast, m"),
       CLEANMAP_FIELD("occupancy_grid", occupancy_grid, "Write a 2D occupancy grid (PGM + YAML)"),
       CLEANMAP_FIELD("grid_z_min", grid_z_min, "Lowest height in the grid, m"),
       CLEANMAP_FIELD("grid_z_max", grid_z_max, "Highest height in the grid, m"));

@@ -44,7 +44,7 @@ std::int64_t CellSet::find(const Key& k) const {
   return last_;
 }
 
-bool CellSet::insert(const Key& k) {
+std::size_t CellSet::tile_for(const Key& k) {
   auto t = find(k);
   if (t < 0) {
     Tile tile;
@@ -57,13 +57,60 @@ bool CellSet::insert(const Key& k) {
     last_id_ = tile_id(k);
     last_ = t;
   }
+  return static_cast<std::size_t>(t);
+}
+
+bool CellSet::insert(const Key& k) {
+  const auto t = tile_for(k);
   const auto m = cell_set_detail::local_morton(k);
-  auto& word = tiles_[static_cast<std::size_t>(t)].bits[m >> 6];
+  auto& word = tiles_[t].bits[m >> 6];
   const std::uint64_t bit = 1ull << (m & 63);
   if (word & bit) return false;
   word |= bit;
   ++size_;
   return true;
+}
+
+const CellSet::Tile* CellSet::tile_of(const Key& k) const {
+  const auto it = index_.find(tile_id(k));
+  return it == index_.end() ? nullptr : &tiles_[it->second];
+}
+
+void CellSet::for_each_also_in(const CellSet& in, const CellSet& out,
+                               const std::function<void(const Key&)>& visit) const {
+  for (const Tile& tile : tiles_) {
+    const Tile* a = in.tile_of(tile.base);
+    if (a == nullptr) continue;
+    const Tile* b = out.tile_of(tile.base);
+    for (std::size_t w = 0; w < tile.bits.size(); ++w) {
+      std::uint64_t word = tile.bits[w] & a->bits[w];
+      if (b != nullptr) word &= ~b->bits[w];
+      for (; word != 0; word &= word - 1) {
+        const auto local = cell_set_detail::local_cell(static_cast<std::uint32_t>(w * 64) +
+                                                       static_cast<std::uint32_t>(__builtin_ctzll(word)));
+        visit(Key{static_cast<std::uint16_t>(tile.base[0] | local[0]), static_cast<std::uint16_t>(tile.base[1] | local[1]),
+                  static_cast<std::uint16_t>(tile.base[2] | local[2])});
+      }
+    }
+  }
+}
+
+bool CellSet::contains_shared(const Key& k) const {
+  const auto it = index_.find(tile_id(k));
+  if (it == index_.end()) return false;
+  const auto m = cell_set_detail::local_morton(k);
+  return (tiles_[it->second].bits[m >> 6] >> (m & 63)) & 1u;
+}
+
+void CellSet::insert_all(const CellSet& other) {
+  for (const Tile& from : other.tiles_) {
+    Tile& to = tiles_[tile_for(from.base)];
+    for (std::size_t w = 0; w < to.bits.size(); ++w) {
+      const std::uint64_t added = from.bits[w] & ~to.bits[w];
+      to.bits[w] |= added;
+      size_ += static_cast<std::size_t>(__builtin_popcountll(added));
+    }
+  }
 }
 
 bool CellSet::contains(const Key& k) const {

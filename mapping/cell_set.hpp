@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <tsl/robin_map.h>
@@ -21,6 +22,14 @@ class CellSet {
   // True when the cell was not in the set yet.
   bool insert(const Key& k);
   bool contains(const Key& k) const;
+  // As contains, without the look-up cache: any number of threads may ask at once while no
+  // one inserts.
+  bool contains_shared(const Key& k) const;
+  // Every cell of this set that is in `in` and not in `out`, tile by tile, 64 cells to a word
+  // (any order).
+  void for_each_also_in(const CellSet& in, const CellSet& out, const std::function<void(const Key&)>& visit) const;
+  // Adds every cell of `other` (tile by tile).
+  void insert_all(const CellSet& other);
   std::size_t size() const { return size_; }
 
   // Every cell, in octree order (the order of a depth-first walk of the OctoMap).
@@ -35,6 +44,8 @@ class CellSet {
     std::array<std::uint64_t, (1u << (3 * kBits)) / 64> bits{};
   };
   std::int64_t find(const Key& k) const;  // index in tiles_, -1 when absent
+  std::size_t tile_for(const Key& k);     // index in tiles_, made when absent
+  const Tile* tile_of(const Key& k) const;  // nullptr when absent; no cache, thread-safe
 
   tsl::robin_map<std::uint64_t, std::uint32_t> index_;  // tile coordinates -> tiles_
   std::vector<Tile> tiles_;

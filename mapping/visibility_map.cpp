@@ -1,0 +1,108 @@
+#include "mapping/visibility_map.hpp"
+
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "io/error.hpp"
+#include "io/voxel_downsample.hpp"
+#include "mapping/carve_ray.hpp"
+
+namespace cleanmap {
+namespace {
+
+constexpr std::uint16_t kMaxCount = std::numeric_limits<std::uint16_t>::max();
+
+void bump(std::uint16_t& c) { c = static_cast<std::uint16_t>(std::min<int>(c + 1, kMaxCount)); }
+
+}  // namespace
+
+void validate(const VisibilityConfig& c) {
+  auto bad = [](const std::string& what) { throw Error("visibility: " + what); };
+  if (!std::isfinite(c.resolution) || !(c.resolution > 0)) bad("visibility_resolution must be positive");
+  if (!std::isfinite(c.margin) || !(c.margin >= 0)) bad("visibility_margin must be >= 0");
+  if (!std::isfinite(c.max_range) || !(c.max_range > 0)) bad("visibility_max_range must be positive");
+  if (!(c.prob_hit > 0.5 && c.prob_hit < 1)) bad("prob_hit must be in (0.5, 1)");
+  if (!(c.prob_miss > 0 && c.prob_miss < 0.5)) bad("prob_miss must be in (0, 0.5)");
+  if (!(c.free_probability > 0 && c.free_probability < 0.5)) bad("free_probability must be in (0, 0.5)");
+}
+
+VisibilityMap::VisibilityMap(const VisibilityConfig& config) : config_(config) {
+  validate(config_);
+  grid_ = std::make_unique<octomap::OcTree>(config_.resolution);
+}
+VisibilityMap::~VisibilityMap() = default;
+VisibilityMap::VisibilityMap(VisibilityMap&&) noexcept = default;
+VisibilityMap& VisibilityMap::operator=(VisibilityMap&&) noexcept = default;
+
+void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points) {
+  const double inv = 1.0 / config_.resolution;
+  octomap::OcTreeKey k;
+  for (const auto i : voxel_downsample(points, config_.resolution)) {
+    const Eigen::Vector3f p = points.col(i);
+    if (!grid_->coordToKeyChecked(p.x(), p.y(), p.z(), k)) continue;  // beyond +-6.5 km
+    bump(cells_[voxel_of(p, inv)].hits);
+    hit_cells_.insert({k[0], k[1], k[2]});
+  }
+}
+
+void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
+  // The scan's crossed cells first, each once: its rays converge on one origin, and carve_ray
+  // (from the far end) stops where an earlier ray of the scan crossed the rest of the way.
+  CellSet crossed, hit;
+  const auto keep = voxel_downsample(points, config_.resolution);
+  octomap::OcTreeKey key;
+  for (const auto i : keep) {
+    if (grid_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) hit.insert({key[0], key[1], key[2]});
+  }
+  for (const auto i : keep) {
+    const Eigen::Vector3d ray = points.col(i).cast<double>() - origin;
+    const double range = ray.norm();
+    if (!(range > config_.margin) || range > config_.max_range) continue;
+    carve_ray(*grid_, origin + ray * ((range - config_.margin) / range), origin, true, crossed);
+  }
+  // OctoMap keys are cell indices offset by 2^15.
+  constexpr int kOffset = 1 << 15;
+  // Only cells hit at some time are counted (AND of the bitmaps, tile by tile). A cell the
+  // scan both hits and crosses says nothing about motion: porous (foliage lets some rays
+  // through) or grazed (a wall seen at a shallow angle). A mover is opaque: the scans that see
+  // through its cells do not hit them.
+  crossed.for_each_also_in(hit_cells_, hit, [&](const CellSet::Key& k) {
+    const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
+    if (it != cells_.end()) bump(it.value().crossed);
+  });
+}
+
+VisibilityMap::Counts VisibilityMap::counts(const Eigen::Vector3f& p) const {
+  const auto it = cells_.find(voxel_of(p, 1.0 / config_.resolution));
+  return it == cells_.end() ? Counts{} : it->second;
+}
+
+std::vector<std::uint8_t> VisibilityMap::moved_through(const Eigen::Matrix3Xf& points) const {
+  auto logit = [](double p) { return std::log(p / (1 - p)); };
+  const double hit = logit(config_.prob_hit), miss = logit(config_.prob_miss), free = logit(config_.free_probability);
+  auto evidence = [&](const Counts& c) { return c.hits * hit + c.crossed * miss; };
+  const double inv = 1.0 / config_.resolution;
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(points.cols()), 0);
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const VoxelKey k = voxel_of(points.col(i), inv);
+    const auto own = cells_.find(k);
+    if (own == cells_.end() || evidence(own->second) > free) continue;
+    bool clear = true;
+    for (int dx = -1; dx <= 1 && clear; ++dx) {
+      for (int dy = -1; dy <= 1 && clear; ++dy) {
+        for (int dz = -1; dz <= 1 && clear; ++dz) {
+          const auto n = cells_.find(VoxelKey{k.x + dx, k.y + dy, k.z + dz});
+          clear = n == cells_.end() || evidence(n->second) < -free;
+        }
+      }
+    }
+    out[static_cast<std::size_t>(i)] = clear;
+  }
+  return out;
+}
+
+}  // namespace cleanmap

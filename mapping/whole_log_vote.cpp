@@ -1,0 +1,56 @@
+#include "mapping/whole_log_vote.hpp"
+
+#include "dynamics/euclidean_clusters.hpp"
+
+namespace cleanmap {
+namespace {
+
+std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
+                             const VisibilityMap& log, float radius) {
+  std::vector<std::int32_t> moving;
+  for (std::size_t i = 0; i < dynamic.size(); ++i) {
+    if (dynamic[i]) moving.push_back(static_cast<std::int32_t>(i));
+  }
+  if (moving.empty()) return 0;
+  const Eigen::Matrix3Xf sub = points(Eigen::all, moving);
+  const std::vector<std::uint8_t> all(moving.size(), 1);
+  const auto id = clusters_from_seeds(sub, all, all, radius);
+  std::vector<std::size_t> hits, crossed;
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    const auto c = static_cast<std::size_t>(id[k]);
+    if (c >= hits.size()) {
+      hits.resize(c + 1, 0);
+      crossed.resize(c + 1, 0);
+    }
+    const auto n = log.counts(sub.col(static_cast<Eigen::Index>(k)));
+    hits[c] += n.hits;
+    crossed[c] += n.crossed;
+  }
+  std::size_t vetoed = 0;
+  for (std::size_t k = 0; k < id.size(); ++k) {
+    const auto c = static_cast<std::size_t>(id[k]);
+    if (crossed[c] < hits[c]) {
+      dynamic[static_cast<std::size_t>(moving[k])] = 0;
+      ++vetoed;
+    }
+  }
+  return vetoed;
+}
+
+}  // namespace
+
+WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
+                               const VisibilityMap& log, const GroundQuery& ground_of, const ObjectRule& rule,
+                               bool log_end) {
+  WholeLogVerdict v;
+  if (log_end) v.vetoed = veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius));
+  const auto objects = free_space_objects(
+      points, ground_of, [&](const Eigen::Matrix3Xf& sub) { return log.moved_through(sub); }, rule);
+  for (std::size_t i = 0; i < dynamic.size(); ++i) {
+    v.added += objects[i] && !dynamic[i];
+    dynamic[i] |= objects[i];
+  }
+  return v;
+}
+
+}  // namespace cleanmap

@@ -1,0 +1,34 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "mapping/free_space_vote.hpp"
+#include "mapping/visibility_map.hpp"
+
+namespace cleanmap {
+
+struct WholeLogVerdict {
+  std::size_t added = 0;   // points made dynamic by what the log saw through
+  std::size_t vetoed = 0;  // points the normals called dynamic that the log saw stand
+};
+
+// An offline run's second opinion on one scan (world frame), given the whole log's visibility:
+// - objects (clusters of non-ground points, `rule`) whose cells the log saw through more than
+//   it saw them occupied are dynamic: what passes by, which normals miss when a car's side
+//   slides within its own plane;
+// - at the log's first and last scan (`log_end`) a dynamic object (cluster of dynamic points,
+//   `rule.radius`) whose cells the log saw occupied more often than through is static again.
+//   There the normals' window has one side only, and a surface coming into view looks to them
+//   like one that appeared (SemanticKITTI 07's last scan: 450 points of a wall, its cells hit
+//   in 2-3 scans, crossed in 0-3). Visibility tells the two apart: where something appeared,
+//   the log saw through it before. Inside the log the normals have both sides, and an object
+//   that crawls (its cells occupied most of the time) stays theirs to call.
+// Updates `dynamic` (1 = dynamic) in place.
+WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
+                               const VisibilityMap& log, const GroundQuery& ground_of, const ObjectRule& rule,
+                               bool log_end);
+
+}  // namespace cleanmap

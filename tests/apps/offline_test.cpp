@@ -1,0 +1,98 @@
+// Offline runs: the spill files between the passes, and the two modes end to end.
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "apps/offline_spill.hpp"
+#include "io/error.hpp"
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+
+using test::run_cleanmap;
+
+TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
+  test::TempDir dir;
+  ScoredScan r;
+  r.index = 7;
+  r.scan.name = "000007";
+  r.scan.stamp = 0.7;
+  r.scan.pose = Eigen::Isometry3d(Eigen::Translation3d(1, 2, 3));
+  r.scan.points.resize(3, 3);
+  r.scan.points << 1, 2, 3, 4, 5, 6, 7, 8, 9;
+  r.scan.intensity = Eigen::Vector3f(0.1f, 0.2f, 0.3f);
+  r.scan.input_index = {0, 2, 5};
+  r.scan.input_size = 6;
+  r.score = {0.1f, std::nanf(""), 0.9f};
+  r.dynamic = {0, 0, 1};
+  r.scans_before = 2;
+  r.scans_after = 4;
+  r.tracked_points = 1;
+  const auto file = dir / "a.spill";
+  app::write_spill(file, r, {9, 9, 251});
+  const auto back = app::read_spill(file);
+  EXPECT_EQ(back.scored.index, 7u);
+  EXPECT_EQ(back.scored.scan.name, "000007");
+  EXPECT_TRUE(back.scored.scan.points.isApprox(r.scan.points));
+  EXPECT_TRUE(back.scored.scan.intensity.isApprox(r.scan.intensity));
+  EXPECT_EQ(back.scored.scan.input_index, r.scan.input_index);
+  EXPECT_EQ(back.scored.scan.input_size, 6u);
+  ASSERT_TRUE(back.scored.scan.pose.has_value());
+  EXPECT_TRUE(back.scored.scan.pose->isApprox(*r.scan.pose));
+  EXPECT_TRUE(std::isnan(back.scored.score[1]));
+  EXPECT_EQ(back.scored.dynamic, r.dynamic);
+  EXPECT_EQ(back.labels, (std::vector<std::uint32_t>{9, 9, 251}));
+  EXPECT_EQ(back.scored.scans_after, 4);
+  EXPECT_EQ(back.scored.tracked_points, 1u);
+  // Cut short: one clear error naming the file, never a half-read scan.
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) - 9);
+  try {
+    app::read_spill(file);
+    FAIL() << "read a truncated spill";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("a.spill"), std::string::npos) << e.what();
+  }
+}
+
+nlohmann::json summary_of(const std::filesystem::path& out) {
+  return nlohmann::json::parse(std::ifstream(out / "summary.json"));
+}
+
+TEST(OfflineRun, BothModesOnTheSyntheticStreetAndNothingLeftBehind) {
+  test::TempDir dir;
+  ASSERT_EQ(run_cleanmap("demo --generate-only --scans 20 --out " + (dir / "d").string()), 0);
+  std::string out;
+  for (const char* mode : {"", " --online"}) {
+    const auto run = dir / (std::string("run") + (mode[0] ? "-online" : ""));
+    ASSERT_EQ(run_cleanmap("run --input " + (dir / "d" / "sequence").string() + " --out " + run.string() +
+                      " --voxel-size 0.1 --use-given-poses" + mode, &out), 0) << out;
+    const auto s = summary_of(run);
+    ASSERT_TRUE(s["complete"].get<bool>());
+    EXPECT_EQ(s["mode"].get<std::string>(), mode[0] ? "online" : "offline");
+    EXPECT_FALSE(std::filesystem::exists(run / ".offline"));  // the spills are gone
+    // Measured: IoU 0.89 offline, 0.88 online (20 scans, given poses, all ranges).
+    EXPECT_GT(s["moving"]["iou"].get<double>(), 0.8) << mode;
+    if (!mode[0]) {
+      EXPECT_GT(s["visibility"]["cells"].get<std::size_t>(), 10000u);
+      EXPECT_TRUE(s.contains("stage_seconds") && s["stage_seconds"].contains("judging"));
+    }
+  }
+}
+
+TEST(OfflineRun, AStaticStreetLosesAlmostNothing) {
+  // Nothing moves but the sensor: every removed point is a mistake. Measured with odometry:
+  // 0.10% offline (1684 of 1.68 M points, most in the first 3 scans, where odometry starts),
+  // 0.08% online.
+  test::TempDir dir;
+  ASSERT_EQ(run_cleanmap("demo --generate-only --static-scene --scans 30 --out " + (dir / "d").string()), 0);
+  std::string out;
+  ASSERT_EQ(run_cleanmap("run --input " + (dir / "d" / "sequence").string() + " --out " + (dir / "r").string() +
+                    " --voxel-size 0.1", &out), 0) << out;
+  const auto s = summary_of(dir / "r");
+  const double share = s["dynamic_points"].get<double>() / s["points"].get<double>();
+  EXPECT_LT(share, 0.002);
+  EXPECT_EQ(s["moving"]["tp"].get<std::size_t>(), 0u);  // the labels agree: nothing moves
+}
+
+}  // namespace
+}  // namespace cleanmap

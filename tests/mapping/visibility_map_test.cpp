@@ -1,0 +1,175 @@
+// The whole log's visibility: exact counts on hand-made rays, the OctoMap weighing of them,
+// and the rules that keep walls, foliage and the ground out of it.
+#include "mapping/visibility_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "mapping/cell_set.hpp"
+#include "mapping/whole_log_vote.hpp"
+
+namespace cleanmap {
+namespace {
+
+Eigen::Matrix3Xf one(float x, float y, float z) {
+  Eigen::Matrix3Xf m(3, 1);
+  m << x, y, z;
+  return m;
+}
+
+const Eigen::Vector3d kOrigin(0.05, 0.05, 0.05);  // a cell centre: rays leave their own cell cleanly
+
+TEST(CellSet, AddsAnotherSetAndVisitsWhatIsInOneNotTheOther) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> near(32768 - 60, 32768 + 60);
+  CellSet a, b, in, out;
+  std::set<CellSet::Key> ta, tb;
+  for (int i = 0; i < 5000; ++i) {
+    const CellSet::Key k{static_cast<std::uint16_t>(near(rng)), static_cast<std::uint16_t>(near(rng)),
+                         static_cast<std::uint16_t>(near(rng))};
+    (i % 2 ? a : b).insert(k);
+    (i % 2 ? ta : tb).insert(k);
+    if (i % 3 == 0) in.insert(k);
+    if (i % 5 == 0) out.insert(k);
+  }
+  CellSet u = a;
+  u.insert_all(b);
+  std::set<CellSet::Key> tu = ta;
+  tu.insert(tb.begin(), tb.end());
+  EXPECT_EQ(u.size(), tu.size());
+  for (const auto& k : tu) EXPECT_TRUE(u.contains_shared(k));
+  std::set<CellSet::Key> visited;
+  u.for_each_also_in(in, out, [&](const CellSet::Key& k) { visited.insert(k); });
+  for (const auto& k : tu) EXPECT_EQ(visited.count(k) == 1, in.contains(k) && !out.contains(k));
+  EXPECT_EQ(visited.size() <= tu.size(), true);
+}
+
+TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
+  VisibilityConfig c;
+  c.resolution = 0.1;
+  c.margin = 0.25;
+  VisibilityMap map(c);
+  // Scan 0 hits something at x = 5.05; scans 1-3 see a wall at x = 9.05 through that place.
+  map.add_hits(one(5.05f, 0.05f, 0.05f));
+  for (int s = 1; s <= 3; ++s) map.add_hits(one(9.05f, 0.05f, 0.05f));
+  map.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
+  for (int s = 1; s <= 3; ++s) map.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+  const auto mover = map.counts({5.05f, 0.05f, 0.05f});
+  EXPECT_EQ(mover.hits, 1);
+  EXPECT_EQ(mover.crossed, 3);
+  const auto wall = map.counts({9.05f, 0.05f, 0.05f});
+  EXPECT_EQ(wall.hits, 3);
+  EXPECT_EQ(wall.crossed, 0);
+  // The margin: a ray ending at 5.05 stops 0.25 m short, so the cells from 4.8 on are not
+  // crossed by it (the wall's rays do cross them).
+  EXPECT_EQ(map.counts({6.05f, 0.05f, 0.05f}).hits, 0);  // never hit: not counted at all
+  EXPECT_EQ(map.cells(), 2u);
+}
+
+TEST(VisibilityMap, MovedWhenTheLogSawThroughItOftenEnoughAsAnOctoMapWeighs) {
+  // One hit (log-odds +0.847 at p_hit 0.7) against k crossings (-0.405 each at p_miss 0.4):
+  // free at p <= 0.2 (log-odds -1.386) from k = 6 on: 0.847 - 6 x 0.405 = -1.586, while
+  // k = 5 gives -1.181.
+  for (int k : {5, 6}) {
+    VisibilityConfig c;
+    c.resolution = 0.1;
+    VisibilityMap map(c);
+    map.add_hits(one(5.05f, 0.05f, 0.05f));
+    for (int s = 0; s < k; ++s) map.add_hits(one(9.05f, 0.05f, 0.05f));
+    map.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
+    for (int s = 0; s < k; ++s) map.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+    EXPECT_EQ(map.moved_through(one(5.05f, 0.05f, 0.05f))[0], k == 6 ? 1 : 0) << k;
+    // The wall itself: hit k times, never crossed.
+    EXPECT_EQ(map.moved_through(one(9.05f, 0.05f, 0.05f))[0], 0);
+  }
+}
+
+TEST(VisibilityMap, ACellBesideAnOccupiedOneDidNotMove) {
+  // As above with k = 8 crossings, but a post stands in the next cell, hit in every scan: a
+  // ray that grazes a surface crosses the cells it lies in, a mover leaves free space around.
+  VisibilityConfig c;
+  c.resolution = 0.1;
+  VisibilityMap map(c);
+  map.add_hits(one(5.05f, 0.05f, 0.05f));
+  for (int s = 0; s < 8; ++s) {
+    map.add_hits(one(9.05f, 0.05f, 0.05f));
+    map.add_hits(one(5.05f, 0.15f, 0.05f));
+  }
+  map.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
+  for (int s = 0; s < 8; ++s) map.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+  EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).crossed, 8);
+  EXPECT_EQ(map.moved_through(one(5.05f, 0.05f, 0.05f))[0], 0);
+}
+
+TEST(VisibilityMap, AScanThatHitsACellDoesNotAlsoCrossIt) {
+  // Foliage: every scan hits the bush's cell and sees through it to the wall behind. Nothing
+  // moved there, and no crossing is counted.
+  VisibilityConfig c;
+  c.resolution = 0.1;
+  VisibilityMap map(c);
+  Eigen::Matrix3Xf scan(3, 2);
+  scan << 5.05f, 9.05f, 0.05f, 0.05f, 0.05f, 0.05f;
+  for (int s = 0; s < 10; ++s) map.add_hits(scan);
+  for (int s = 0; s < 10; ++s) map.add_rays(scan, kOrigin);
+  EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).hits, 10);
+  EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).crossed, 0);
+}
+
+TEST(VisibilityMap, BadSettingsAreNamed) {
+  VisibilityConfig c;
+  c.margin = -1;
+  EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
+  c = {};
+  c.resolution = std::nan("");
+  EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
+}
+
+// A 1 m cube of points at `x` (on a 0.2 m lattice), as one scan sees it.
+Eigen::Matrix3Xf cube(float x) {
+  std::vector<Eigen::Vector3f> p;
+  for (float a = 0; a < 1.0f; a += 0.2f) {
+    for (float b = 0; b < 1.0f; b += 0.2f) {
+      for (float c = 0; c < 1.0f; c += 0.2f) p.emplace_back(x + a, b + 0.1f, c + 0.5f);
+    }
+  }
+  Eigen::Matrix3Xf m(3, static_cast<Eigen::Index>(p.size()));
+  for (std::size_t i = 0; i < p.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = p[i];
+  return m;
+}
+
+// A 4 m x 4 m wall across x = `x` (0.2 m apart), as one scan sees it.
+Eigen::Matrix3Xf wall_at(float x) {
+  Eigen::Matrix3Xf m(3, 400);
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) m.col(i * 20 + j) << x, -1.5f + 0.2f * static_cast<float>(i), -1.0f + 0.2f * static_cast<float>(j);
+  }
+  return m;
+}
+
+TEST(WholeLogVote, AnObjectInSpaceTheLogSawThroughIsDynamic) {
+  // A box stands at x = 6 in scan 0; ten later scans see a wall at x = 12 through where it was.
+  VisibilityMap map({});
+  const auto box = cube(6.0f), wall = wall_at(12.0f);
+  map.add_hits(box);
+  for (int s = 0; s < 10; ++s) map.add_hits(wall);
+  map.add_rays(box, Eigen::Vector3d(0, 0.5, 1.0));
+  for (int s = 0; s < 10; ++s) map.add_rays(wall, Eigen::Vector3d(0, 0.5, 1.0));
+  auto no_ground = [](const Eigen::Matrix3Xf& sub) { return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0); };
+  std::vector<std::uint8_t> dynamic(static_cast<std::size_t>(box.cols()), 0);
+  const auto v = judge_with_log(box, dynamic, map, no_ground, kFreeSpaceRule, false);
+  EXPECT_GT(v.added, box.cols() / 3);
+  // The wall, hit in every scan, stays; and at a log end an object the normals called dynamic
+  // that the log saw standing (the wall: hit 10 times, never crossed) is static again.
+  std::vector<std::uint8_t> wall_dynamic(static_cast<std::size_t>(wall.cols()), 1);
+  const auto w = judge_with_log(wall, wall_dynamic, map, no_ground, kFreeSpaceRule, true);
+  EXPECT_EQ(w.added, 0u);
+  EXPECT_EQ(w.vetoed, static_cast<std::size_t>(wall.cols()));
+  // Inside the log the normals keep their call.
+  std::vector<std::uint8_t> inside(static_cast<std::size_t>(wall.cols()), 1);
+  EXPECT_EQ(judge_with_log(wall, inside, map, no_ground, kFreeSpaceRule, false).vetoed, 0u);
+}
+
+}  // namespace
+}  // namespace cleanmap
