@@ -17,7 +17,9 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_pipeline.h>
 
+#include "apps/offline_pass.hpp"
 #include "apps/offline_spill.hpp"
+#include "apps/run_inputs.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/progress.hpp"
 #include "dynamics/ground_segmentation.hpp"
@@ -30,7 +32,6 @@
 #include "mapping/octomap_builder.hpp"
 #include "mapping/point_cloud_map.hpp"
 #include "mapping/visibility_map.hpp"
-#include "mapping/whole_log_vote.hpp"
 #include "odometry/deskew.hpp"
 #include "odometry/lidar_odometry.hpp"
 
@@ -58,47 +59,9 @@ nlohmann::json library_versions() {
           {"cleanmap", "0.1.0"}};
 }
 
-// The platform mask, learnt from the first scans in the sensor frame (world-frame inputs, such
-// as DynamicMap's, are cleaned already: only the crop box could apply, and it has no frame).
-PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg) {
-  if (seq.world_frame) return {};
-  std::vector<Eigen::Matrix3Xf> first;
-  const auto n = std::min(seq.size(), static_cast<std::size_t>(cfg.learn_scans));
-  for (std::size_t i = 0; cfg.automatic && i < n; ++i) first.push_back(load_scan(seq, i).scan.points);
-  return learn_platform_mask(first, cfg);
-}
-
-// Per-point labels of `before` for the points `after` kept of it (both know their points'
-// places in the input file).
-std::vector<std::uint32_t> follow_points(const Scan& before, const std::vector<std::uint32_t>& labels,
-                                         const Scan& after) {
-  if (labels.empty() || after.size() == before.size()) return labels;
-  const auto by_input = to_input_order(before, labels, kLabelUnscored);
-  std::vector<std::uint32_t> out(after.size());
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i] = by_input[after.input_index.empty() ? i : static_cast<std::size_t>(after.input_index[i])];
-  }
-  return out;
-}
-
 // Moves `more` onto the end of `into`.
 void append(std::vector<ScoredScan>& into, std::vector<ScoredScan> more) {
   std::move(more.begin(), more.end(), std::back_inserter(into));
-}
-
-// Masked points leave the scan before anything sees it; their outputs are label 0 / NaN.
-std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask) {
-  if (mask.empty()) return 0;
-  const auto keep = unmasked_points(loaded.scan.points, mask);
-  const std::size_t masked = loaded.scan.size() - keep.size();
-  if (masked == 0) return 0;
-  if (!loaded.labels.empty()) {
-    std::vector<std::uint32_t> labels(keep.size());
-    for (std::size_t k = 0; k < keep.size(); ++k) labels[k] = loaded.labels[static_cast<std::size_t>(keep[k])];
-    loaded.labels = std::move(labels);
-  }
-  loaded.scan = select_points(loaded.scan, keep);
-  return masked;
 }
 
 }  // namespace
@@ -281,67 +244,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
       item.scored.emplace_back(std::move(r), std::move(labels));
     }
   };
-  // Offline pass 2: every spilled scan, in order, judged with the whole log's visibility
-  // (read-only by now, so scans are judged side by side), then mapped and written.
-  double visibility_s = 0, judging_s = 0;
-  auto judge_offline = [&] {
-    // Every scan's rays, once every scan's hits are in (the spills hold the world-frame scans).
-    Progress rays(opt.command + " (rays)", seq.size());
-    for (std::size_t i = 0; i < seq.size(); ++i) {
-      const auto t = Clock::now();
-      const SpilledScan s = read_spill(spill_dir / (scan_name(i) + ".spill"));
-      if (s.scored.scan.pose) visibility->add_rays(s.scored.scan.points, s.scored.scan.pose->translation());
-      visibility_s += since(t);
-      rays.update(i + 1);
-    }
-    rays.finish();
-    Progress pass2(opt.command + " (pass 2 of 2)", seq.size());
-    std::size_t next_spill = 0;
-    std::mutex judged;
-    tbb::parallel_pipeline(
-        4,
-        tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
-            tbb::filter_mode::serial_in_order,
-            [&](tbb::flow_control& fc) -> std::shared_ptr<SpilledScan> {
-              if (next_spill == seq.size()) {
-                fc.stop();
-                return nullptr;
-              }
-              const fs::path file = spill_dir / (scan_name(next_spill++) + ".spill");
-              auto s = std::make_shared<SpilledScan>(read_spill(file));
-              fs::remove(file);
-              return s;
-            }) &
-            tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
-                tbb::filter_mode::parallel,
-                [&](std::shared_ptr<SpilledScan> s) {
-                  const auto t = Clock::now();
-                  ScoredScan& r = s->scored;
-                  const auto verdict = judge_with_log(
-                      r.scan.points, r.dynamic, *visibility,
-                      [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, cfg.scorer.ground); },
-                      cfg.mapping.free_space_objects, r.scans_before == 0 || r.scans_after == 0);
-                  std::lock_guard<std::mutex> lock(judged);
-                  void_added += verdict.added;
-                  void_vetoed += verdict.vetoed;
-                  judging_s += since(t);
-                  return s;
-                }) &
-            tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
-                tbb::filter_mode::serial_in_order,
-                [&](std::shared_ptr<SpilledScan> s) {
-                  map_scan(s->scored);
-                  return s;
-                }) &
-            tbb::make_filter<std::shared_ptr<SpilledScan>, void>(
-                tbb::filter_mode::serial_in_order, [&](std::shared_ptr<SpilledScan> s) {
-                  write_scan(s->scored, s->labels);
-                  pass2.update(s->scored.index + 1);
-                }));
-    pass2.finish();
-    fs::remove_all(spill_dir);
-    stage_seconds["judging"] = judging_s;
-  };
+  double visibility_s = 0;  // offline pass 1: counting each scan's hits
   tbb::parallel_pipeline(
       4,
       tbb::make_filter<void, std::shared_ptr<Item>>(
@@ -425,8 +328,11 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               }));
   progress.finish();
   if (offline) {
-    judge_offline();
-    stage_seconds["visibility"] = visibility_s;
+    const auto pass = run_offline_pass(opt.command, seq.size(), spill_dir, *visibility, cfg, map_scan, write_scan);
+    void_added = pass.added;
+    void_vetoed = pass.vetoed;
+    stage_seconds["visibility"] = visibility_s + pass.rays_seconds;
+    stage_seconds["judging"] = pass.judging_seconds;
   }
   stage_seconds["mapping"] = mapping_s;
   stage_seconds["write"] = write_s;

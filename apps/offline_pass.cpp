@@ -1,0 +1,88 @@
+#include "apps/offline_pass.hpp"
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <tbb/parallel_pipeline.h>
+
+#include "apps/offline_spill.hpp"
+#include "apps/progress.hpp"
+#include "dynamics/ground_segmentation.hpp"
+#include "mapping/whole_log_vote.hpp"
+
+namespace cleanmap::app {
+namespace fs = std::filesystem;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+fs::path spill_file(const fs::path& dir, std::size_t i) { return dir / (scan_name(i) + ".spill"); }
+
+}  // namespace
+
+OfflinePassStats run_offline_pass(
+    const std::string& command, std::size_t scans, const fs::path& spill_dir, VisibilityMap& visibility,
+    const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
+    const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan) {
+  OfflinePassStats stats;
+  // Every scan's rays, once every scan's hits are in (the spills hold the world-frame scans).
+  Progress rays(command + " (rays)", scans);
+  for (std::size_t i = 0; i < scans; ++i) {
+    const auto t = Clock::now();
+    const SpilledScan s = read_spill(spill_file(spill_dir, i));
+    if (s.scored.scan.pose) visibility.add_rays(s.scored.scan.points, s.scored.scan.pose->translation());
+    stats.rays_seconds += since(t);
+    rays.update(i + 1);
+  }
+  rays.finish();
+  Progress pass2(command + " (pass 2 of 2)", scans);
+  std::size_t next = 0;
+  std::mutex judged;
+  tbb::parallel_pipeline(
+      4,
+      tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<SpilledScan> {
+            if (next == scans) {
+              fc.stop();
+              return nullptr;
+            }
+            const fs::path file = spill_file(spill_dir, next++);
+            auto s = std::make_shared<SpilledScan>(read_spill(file));
+            fs::remove(file);
+            return s;
+          }) &
+          tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<SpilledScan> s) {
+                const auto t = Clock::now();
+                ScoredScan& r = s->scored;
+                const auto verdict = judge_with_log(
+                    r.scan.points, r.dynamic, visibility,
+                    [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, cfg.scorer.ground); },
+                    cfg.mapping.free_space_objects, r.scans_before == 0 || r.scans_after == 0);
+                std::lock_guard<std::mutex> lock(judged);
+                stats.added += verdict.added;
+                stats.vetoed += verdict.vetoed;
+                stats.judging_seconds += since(t);
+                return s;
+              }) &
+          tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::shared_ptr<SpilledScan> s) {
+                map_scan(s->scored);
+                return s;
+              }) &
+          tbb::make_filter<std::shared_ptr<SpilledScan>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<SpilledScan> s) {
+                write_scan(s->scored, s->labels);
+                pass2.update(s->scored.index + 1);
+              }));
+  pass2.finish();
+  fs::remove_all(spill_dir);
+  return stats;
+}
+
+}  // namespace cleanmap::app

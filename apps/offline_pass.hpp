@@ -1,0 +1,32 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "apps/settings.hpp"
+#include "dynamics/spatiotemporal_scorer.hpp"
+#include "mapping/visibility_map.hpp"
+
+namespace cleanmap::app {
+
+struct OfflinePassStats {
+  std::size_t added = 0;   // points the whole log's visibility made dynamic
+  std::size_t vetoed = 0;  // points it made static again (log ends)
+  double rays_seconds = 0, judging_seconds = 0;
+};
+
+// The second half of an offline run, once pass 1 has counted every scan's hits into
+// `visibility` and spilled scans 0..scans-1 to `spill_dir` (NNNNNN.spill): every scan's rays,
+// then every scan, in order, judged with the whole log (judge_with_log; scans side by side,
+// as the map is read-only by then), handed to `map_scan` and `write_scan` in order. Progress
+// on the terminal per sweep; the spills are deleted as they are read, the folder at the end.
+OfflinePassStats run_offline_pass(
+    const std::string& command, std::size_t scans, const std::filesystem::path& spill_dir,
+    VisibilityMap& visibility, const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
+    const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan);
+
+}  // namespace cleanmap::app
