@@ -27,15 +27,42 @@ OfflinePassStats run_offline_pass(
     const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan) {
   OfflinePassStats stats;
-  // Every scan's rays, once every scan's hits are in (the spills hold the world-frame scans).
+  std::size_t rays_done = 0;
+  // Every scan's rays, once every scan's hits are in (the spills hold the world-frame scans):
+  // cast side by side, counted in order.
   Progress rays(command + " (rays)", scans);
-  for (std::size_t i = 0; i < scans; ++i) {
-    const auto t = Clock::now();
-    const SpilledScan s = read_spill(spill_file(spill_dir, i));
-    if (s.scored.scan.pose) visibility.add_rays(s.scored.scan.points, s.scored.scan.pose->translation());
-    stats.rays_seconds += since(t);
-    rays.update(i + 1);
-  }
+  std::size_t next_ray = 0;
+  std::mutex cast_time;
+  tbb::parallel_pipeline(
+      4,
+      tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<SpilledScan> {
+            if (next_ray == scans) {
+              fc.stop();
+              return nullptr;
+            }
+            return std::make_shared<SpilledScan>(read_spill(spill_file(spill_dir, next_ray++)));
+          }) &
+          tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<VisibilityMap::ScanRays>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<SpilledScan> s) {
+                const auto t = Clock::now();
+                const Scan& scan = s->scored.scan;
+                auto cast = std::make_shared<VisibilityMap::ScanRays>();
+                if (scan.pose) *cast = visibility.cast(scan.points, scan.pose->translation());
+                std::lock_guard<std::mutex> lock(cast_time);
+                stats.rays_seconds += since(t);
+                return cast;
+              }) &
+          tbb::make_filter<std::shared_ptr<VisibilityMap::ScanRays>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<VisibilityMap::ScanRays> r) {
+                const auto t = Clock::now();
+                visibility.count(*r);
+                std::lock_guard<std::mutex> lock(cast_time);  // the casts add theirs too
+                stats.rays_seconds += since(t);
+                rays.update(++rays_done);
+              }));
   rays.finish();
   Progress pass2(command + " (pass 2 of 2)", scans);
   std::size_t next = 0;

@@ -50,27 +50,35 @@ void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points) {
 }
 
 void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
+  count(cast(points, origin));
+}
+
+VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const {
   // The scan's crossed cells first, each once: its rays converge on one origin, and carve_ray
   // (from the far end) stops where an earlier ray of the scan crossed the rest of the way.
-  CellSet crossed, hit;
+  ScanRays out;
   const auto keep = voxel_downsample(points, config_.resolution);
   octomap::OcTreeKey key;
   for (const auto i : keep) {
-    if (grid_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) hit.insert({key[0], key[1], key[2]});
+    if (grid_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) out.hit.insert({key[0], key[1], key[2]});
   }
   for (const auto i : keep) {
     const Eigen::Vector3d ray = points.col(i).cast<double>() - origin;
     const double range = ray.norm();
     if (!(range > config_.margin) || range > config_.max_range) continue;
-    carve_ray(*grid_, origin + ray * ((range - config_.margin) / range), origin, true, crossed);
+    carve_ray(*grid_, origin + ray * ((range - config_.margin) / range), origin, true, out.crossed);
   }
+  return out;
+}
+
+void VisibilityMap::count(const ScanRays& rays) {
   // OctoMap keys are cell indices offset by 2^15.
   constexpr int kOffset = 1 << 15;
   // Only cells hit at some time are counted (AND of the bitmaps, tile by tile). A cell the
   // scan both hits and crosses says nothing about motion: porous (foliage lets some rays
   // through) or grazed (a wall seen at a shallow angle). A mover is opaque: the scans that see
   // through its cells do not hit them.
-  crossed.for_each_also_in(hit_cells_, hit, [&](const CellSet::Key& k) {
+  rays.crossed.for_each_also_in(hit_cells_, rays.hit, [&](const CellSet::Key& k) {
     const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
     if (it != cells_.end()) bump(it.value().crossed);
   });

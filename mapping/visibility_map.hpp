@@ -56,8 +56,16 @@ class VisibilityMap {
 
   // One scan's rays, from `origin` (the sensor, world frame) to each of `points` (world
   // frame), one ray per cell the scan hits: each hit cell the scan crossed counts once. After
-  // every scan's hits; not thread-safe.
+  // every scan's hits; not thread-safe. The same as count(cast(points, origin)).
   void add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin);
+
+  // add_rays in two halves: casting (read-only, scans side by side) and counting (one at a
+  // time).
+  struct ScanRays {
+    CellSet crossed, hit;
+  };
+  ScanRays cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const;
+  void count(const ScanRays& rays);
 
   // 1 where a point lies in a free cell with no occupied cell around it. Read-only: safe from
   // many threads once the rays are in.
