@@ -20,7 +20,8 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   r.scan.pose = Eigen::Isometry3d(Eigen::Translation3d(1, 2, 3));
   r.scan.points.resize(3, 3);
   r.scan.points << 1, 2, 3, 4, 5, 6, 7, 8, 9;
-  r.scan.intensity = Eigen::Vector3f(0.1f, 0.2f, 0.3f);
+  r.scan.intensity.resize(3);
+  r.scan.intensity << 0.1f, 0.2f, 0.3f;
   r.scan.input_index = {0, 2, 5};
   r.scan.input_size = 6;
   r.score = {0.1f, std::nanf(""), 0.9f};
