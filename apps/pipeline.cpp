@@ -99,6 +99,14 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     visibility = std::make_unique<VisibilityMap>(v);
     make_dirs(spill_dir);
   }
+  // The spills go whatever happens: a run stopped by bad input leaves no half of them behind.
+  struct RemoveAtExit {
+    fs::path dir;
+    ~RemoveAtExit() {
+      std::error_code ignored;
+      if (!dir.empty()) fs::remove_all(dir, ignored);
+    }
+  } spills{offline ? spill_dir : fs::path()};
   std::size_t void_added = 0, void_vetoed = 0;
   SpatiotemporalScorer scorer(cfg.scorer);
   ObjectTracker tracker(cfg.scorer.tracks, cfg.scorer.window_half, cfg.scorer.objects.radius);

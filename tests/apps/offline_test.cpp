@@ -80,6 +80,19 @@ TEST(OfflineRun, BothModesOnTheSyntheticStreetAndNothingLeftBehind) {
   }
 }
 
+TEST(OfflineRun, ABadScanMidwayStopsTheRunAndLeavesNoSpills) {
+  test::TempDir dir;
+  ASSERT_EQ(run_cleanmap("demo --generate-only --scans 24 --columns 256 --out " + (dir / "d").string()), 0);
+  const auto bad = dir / "d" / "sequence" / "scans" / "000022.pcd";
+  std::filesystem::resize_file(bad, std::filesystem::file_size(bad) / 2);
+  std::string out;
+  EXPECT_EQ(run_cleanmap("run --input " + (dir / "d" / "sequence").string() + " --out " + (dir / "r").string() +
+                    " --voxel-size 0.1 --use-given-poses", &out), 1);
+  EXPECT_NE(out.find("000022.pcd"), std::string::npos) << out;
+  EXPECT_FALSE(summary_of(dir / "r")["complete"].get<bool>());
+  EXPECT_FALSE(std::filesystem::exists(dir / "r" / ".offline"));
+}
+
 TEST(OfflineRun, AStaticStreetLosesAlmostNothing) {
   // Nothing moves but the sensor: every removed point is a mistake. Measured with odometry:
   // 0.10% offline (1684 of 1.68 M points, most in the first 3 scans, where odometry starts),
