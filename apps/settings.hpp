@@ -88,6 +88,7 @@ inline auto scorer_fields() {
       CLEANMAP_FIELD("ground_height", ground.height, "Height above the local ground that is ground, m"),
       CLEANMAP_FIELD("ground_max_slope", ground.max_slope, "Steepest ground, rise per metre"),
       CLEANMAP_FIELD("ground_reach", ground.reach, "Lowest points this far away bound a cell's ground, m"),
+      CLEANMAP_FIELD("ground_floor_band", ground.floor_band, "Ground this close above the floor is the floor itself (keeps its own decision in paper upsampling), m"),
       CLEANMAP_FIELD("object_completion", object_completion, "Grow decisions to whole clusters"),
       CLEANMAP_FIELD("cluster_radius", objects.radius, "Euclidean clustering distance, m"),
       CLEANMAP_FIELD("cluster_min_fraction", objects.min_fraction, "Share of a cluster's scored points that must be dynamic"),

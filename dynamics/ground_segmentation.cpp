@@ -19,6 +19,9 @@ void validate(const GroundConfig& c) {
   if (!std::isfinite(c.height) || !(c.height > 0)) bad("ground_height must be positive");
   if (!std::isfinite(c.max_slope) || !(c.max_slope >= 0)) bad("ground_max_slope must be >= 0");
   if (!std::isfinite(c.reach) || !(c.reach >= 0)) bad("ground_reach must be >= 0");
+  if (!std::isfinite(c.floor_band) || !(c.floor_band >= 0) || c.floor_band > c.height) {
+    bad("ground_floor_band must be in [0, ground_height]");
+  }
 }
 
 namespace {
@@ -110,6 +113,14 @@ void merge_memory(CellMap& lowest, GroundMemory& m) {
 
 std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& c,
                                          GroundMemory* memory) {
+  const auto h = ground_heights(points, c, memory);
+  std::vector<std::uint8_t> ground(h.size());
+  const auto band = static_cast<float>(c.height);
+  for (std::size_t i = 0; i < h.size(); ++i) ground[i] = h[i] < band ? 1 : 0;
+  return ground;
+}
+
+std::vector<float> ground_heights(const Eigen::Matrix3Xf& points, const GroundConfig& c, GroundMemory* memory) {
   const double inv = 1.0 / c.cell;
   const auto n = static_cast<std::size_t>(points.cols());
   std::vector<VoxelKey> key(n);
@@ -149,12 +160,9 @@ std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const G
     }
     ground_z.emplace(k, g);
   }
-  std::vector<std::uint8_t> ground(n, 0);
-  const auto band = static_cast<float>(c.height);
-  for (std::size_t i = 0; i < n; ++i) {
-    ground[i] = points(2, static_cast<Eigen::Index>(i)) - ground_z.find(key[i])->second < band ? 1 : 0;
-  }
-  return ground;
+  std::vector<float> height(n);
+  for (std::size_t i = 0; i < n; ++i) height[i] = points(2, static_cast<Eigen::Index>(i)) - ground_z.find(key[i])->second;
+  return height;
 }
 
 }  // namespace cleanmap

@@ -21,6 +21,10 @@ struct GroundConfig {
   // above the road is not ground when road is seen within `reach`.
   double max_slope = 0.3;   // rise per metre (17 degrees)
   double reach = 3.0;       // m: roofs of objects up to twice this wide are told from ground
+  // m: points this close above the floor are the floor itself. The floor is a cell's lowest
+  // point, so the surface's own points spread over a few times the range noise above it
+  // (1-2 cm for spinning lidars).
+  double floor_band = 0.05;
 };
 
 // Throws Error naming the bad setting.
@@ -45,5 +49,9 @@ struct GroundMemory {
 // rests on the lowest points of the remembered scans, and this scan's are remembered.
 std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& config,
                                          GroundMemory* memory = nullptr);
+
+// Each point's height above its cell's floor (segment_ground: ground below `config.height`).
+std::vector<float> ground_heights(const Eigen::Matrix3Xf& points, const GroundConfig& config,
+                                  GroundMemory* memory = nullptr);
 
 }  // namespace cleanmap

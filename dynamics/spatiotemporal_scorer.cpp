@@ -31,6 +31,11 @@ struct WindowScan {
   Eigen::Matrix3Xf points;           // downsampled, world frame
   Eigen::VectorXd time;              // seconds since the first scan's stamp
   std::vector<std::uint8_t> ground;  // per downsampled point (all 0 when not ground-aware)
+  // Ground points on the floor itself (the road, not a tyre's or a shoe's lower edge): with
+  // the paper's upsampling they keep their own decision, as the radius would paint the road
+  // around every mover (the synthetic street: 6.7k of its 8.4k false positives; IoU 0.896 ->
+  // 0.945, measured with floor_band 0.05; 0.1 gave 0.933, as tyres' lower edges stayed behind).
+  std::vector<std::uint8_t> on_floor;
   std::unique_ptr<PointIndex> index_tree;  // exact mode; reads `points` in place
 };
 
@@ -150,9 +155,15 @@ struct SpatiotemporalScorer::Impl {
       w.points.col(k) = scan.points.col(keep[k]);
       w.time[k] = scan.stamp - *t0 + (scan.has_time() ? scan.time[keep[k]] : 0.0f);
     }
-    w.ground = cfg.ground_aware
-                   ? segment_ground(w.points, cfg.ground, &floor)
-                   : std::vector<std::uint8_t>(keep.size(), 0);
+    w.ground.assign(keep.size(), 0);
+    if (cfg.ground_aware) {
+      const auto h = ground_heights(w.points, cfg.ground, &floor);
+      w.on_floor.resize(keep.size());
+      for (std::size_t i = 0; i < h.size(); ++i) {
+        w.ground[i] = h[i] < cfg.ground.height ? 1 : 0;
+        w.on_floor[i] = h[i] < cfg.ground.floor_band ? 1 : 0;
+      }
+    }
     w.full = std::move(scan);
     return w;
   }
@@ -315,7 +326,8 @@ struct SpatiotemporalScorer::Impl {
                                      cfg.objects.min_votes, w.owner);
     }
     for (auto v : d.dynamic) out.dynamic_downsampled += v;
-    auto full = upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius);
+    auto full = upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius,
+                                cfg.ground_static ? w.on_floor : std::vector<std::uint8_t>{});
     w.owner = {};
     out.score = std::move(full.score);
     out.dynamic = std::move(full.dynamic);

@@ -33,7 +33,7 @@ void nearest_rule(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down, co
 // cell next to one, so that almost every full-resolution point is settled by one look-up.
 void paper_rule(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
                 const std::vector<std::int32_t>& owner, const PointDecisions& d, double radius,
-                PointDecisions& out) {
+                const std::vector<std::uint8_t>& keeps_own, PointDecisions& out) {
   const double inv = 1.0 / radius;
   const float r_sq = static_cast<float>(radius * radius);
   tsl::robin_map<VoxelKey, std::vector<std::int32_t>, VoxelKeyHash> dynamic_cells;
@@ -50,7 +50,12 @@ void paper_rule(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
   }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.score.size(), 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      out.score[i] = d.score[static_cast<std::size_t>(owner[i])];
+      const auto own = static_cast<std::size_t>(owner[i]);
+      out.score[i] = d.score[own];
+      if (!keeps_own.empty() && keeps_own[own]) {
+        out.dynamic[i] = d.dynamic[own];
+        continue;
+      }
       if (near.empty()) continue;
       const auto p = full.col(static_cast<Eigen::Index>(i));
       const VoxelKey c = voxel_of(p, inv);
@@ -79,14 +84,15 @@ void paper_rule(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
 
 PointDecisions upsample_scores(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
                                const std::vector<std::int32_t>& owner, const PointDecisions& d,
-                               const std::string& method, double radius) {
+                               const std::string& method, double radius,
+                               const std::vector<std::uint8_t>& keeps_own) {
   const auto n = static_cast<std::size_t>(full.cols());
   PointDecisions out;
   out.score.assign(n, std::numeric_limits<float>::quiet_NaN());
   out.dynamic.assign(n, 0);
   if (down.cols() == 0) return out;
   if (method == "paper") {
-    paper_rule(full, down, owner, d, radius, out);
+    paper_rule(full, down, owner, d, radius, keeps_own, out);
   } else {
     nearest_rule(full, down, d, radius, out);
   }

@@ -57,5 +57,19 @@ TEST(UpsampleScores, NearestRuleTakesTheNearestWithinTheRadius) {
   EXPECT_TRUE(std::isnan(out.score[2]));  // nothing within the radius
 }
 
+TEST(UpsampleScores, PointsOnTheFloorKeepTheirOwnDecision) {
+  // A dynamic tyre edge (downsampled point 0) 0.1 m from a road point (1): the paper's radius
+  // paints the road too, unless the road is marked as keeping its own decision.
+  Eigen::Matrix3Xf down(3, 2), full(3, 2);
+  down << 0, 0.1f, 0, 0, 0.15f, 0.0f;
+  full = down;
+  const std::vector<std::int32_t> owner{0, 1};
+  PointDecisions d{{0.9f, 0.0f}, {1, 0}};
+  EXPECT_EQ(upsample_scores(full, down, owner, d, "paper", 0.3).dynamic, (std::vector<std::uint8_t>{1, 1}));
+  EXPECT_EQ(upsample_scores(full, down, owner, d, "paper", 0.3, {0, 1}).dynamic, (std::vector<std::uint8_t>{1, 0}));
+  // A dynamic point on the floor keeps that too.
+  EXPECT_EQ(upsample_scores(full, down, owner, d, "paper", 0.3, {1, 1}).dynamic, (std::vector<std::uint8_t>{1, 0}));
+}
+
 }  // namespace
 }  // namespace cleanmap
