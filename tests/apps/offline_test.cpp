@@ -95,8 +95,8 @@ TEST(OfflineRun, ABadScanMidwayStopsTheRunAndLeavesNoSpills) {
 
 TEST(OfflineRun, AStaticStreetLosesAlmostNothing) {
   // Nothing moves but the sensor: every removed point is a mistake. Measured with odometry:
-  // 0.10% offline (1684 of 1.68 M points, most in the first 3 scans, where odometry starts),
-  // 0.08% online.
+  // 0.09% offline (1526 of 1.68 M points, most in the first 3 scans, where odometry starts),
+  // 0.07% online.
   test::TempDir dir;
   ASSERT_EQ(run_cleanmap("demo --generate-only --static-scene --scans 30 --out " + (dir / "d").string()), 0);
   std::string out;
