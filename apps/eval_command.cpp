@@ -93,10 +93,7 @@ void eval_dynamic(const DynamicArgs& a) {
   std::vector<std::vector<bool>> moving;
   if (from_boxes) {
     if (!seq.has_poses()) fail(a.gt, "boxes need poses to tell moving objects: give --poses (e.g. a run's poses.txt)");
-    for (const auto& scan : seq.scans) {
-      const auto file = a.gt / "boxes" / (scan.stem().string() + ".json");
-      boxes.push_back(fs::exists(file) ? read_boxes(file) : std::vector<LabelBox>{});
-    }
+    boxes = read_sequence_boxes(a.gt / "boxes", seq.scans);
     moving = moving_boxes(boxes, seq.poses, seq.times, a.speed);
     std::size_t n_moving = 0, n_boxes = 0;
     for (const auto& m : moving) {

@@ -20,6 +20,22 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 fs::path spill_file(const fs::path& dir, std::size_t i) { return dir / (scan_name(i) + ".spill"); }
 
+// The first stage of a sweep: spills 0..scans-1 in order, each deleted once read when
+// `consume` (the last sweep).
+auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, bool consume) {
+  return tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
+      tbb::filter_mode::serial_in_order, [&dir, scans, &next, consume](tbb::flow_control& fc) {
+        if (next == scans) {
+          fc.stop();
+          return std::shared_ptr<SpilledScan>();
+        }
+        const fs::path file = spill_file(dir, next++);
+        auto s = std::make_shared<SpilledScan>(read_spill(file));
+        if (consume) fs::remove(file);
+        return s;
+      });
+}
+
 }  // namespace
 
 OfflinePassStats run_offline_pass(
@@ -35,15 +51,7 @@ OfflinePassStats run_offline_pass(
   std::mutex cast_time;
   tbb::parallel_pipeline(
       4,
-      tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& fc) -> std::shared_ptr<SpilledScan> {
-            if (next_ray == scans) {
-              fc.stop();
-              return nullptr;
-            }
-            return std::make_shared<SpilledScan>(read_spill(spill_file(spill_dir, next_ray++)));
-          }) &
+      spill_source(spill_dir, scans, next_ray, false) &
           tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<VisibilityMap::ScanRays>>(
               tbb::filter_mode::parallel,
               [&](std::shared_ptr<SpilledScan> s) {
@@ -69,18 +77,7 @@ OfflinePassStats run_offline_pass(
   std::mutex judged;
   tbb::parallel_pipeline(
       4,
-      tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& fc) -> std::shared_ptr<SpilledScan> {
-            if (next == scans) {
-              fc.stop();
-              return nullptr;
-            }
-            const fs::path file = spill_file(spill_dir, next++);
-            auto s = std::make_shared<SpilledScan>(read_spill(file));
-            fs::remove(file);
-            return s;
-          }) &
+      spill_source(spill_dir, scans, next, true) &
           tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
               tbb::filter_mode::parallel,
               [&](std::shared_ptr<SpilledScan> s) {
@@ -108,7 +105,6 @@ OfflinePassStats run_offline_pass(
                 pass2.update(s->scored.index + 1);
               }));
   pass2.finish();
-  fs::remove_all(spill_dir);
   return stats;
 }
 

@@ -23,7 +23,8 @@ struct OfflinePassStats {
 // `visibility` and spilled scans 0..scans-1 to `spill_dir` (NNNNNN.spill): every scan's rays,
 // then every scan, in order, judged with the whole log (judge_with_log; scans side by side,
 // as the map is read-only by then), handed to `map_scan` and `write_scan` in order. Progress
-// on the terminal per sweep; the spills are deleted as they are read, the folder at the end.
+// on the terminal per sweep; the spills are deleted as the last sweep reads them (the caller
+// owns the folder, and removes it however the run ends).
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const std::filesystem::path& spill_dir,
     VisibilityMap& visibility, const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,

@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "apps/run_inputs.hpp"
 #include "evaluation/box_labels.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
 #include "io/label_file.hpp"
 #include "io/sequence.hpp"
-#include "odometry/platform_mask.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanmap;
@@ -41,10 +41,7 @@ class Truth {
     if (!fs::is_directory(a.input / "boxes")) {
       throw Error(a.input.string() + ": has neither labels/ (.label files) nor boxes/ (3D boxes)");
     }
-    for (const auto& scan : seq.scans) {
-      const auto file = a.input / "boxes" / (scan.stem().string() + ".json");
-      boxes_.push_back(fs::exists(file) ? read_boxes(file) : std::vector<LabelBox>{});
-    }
+    boxes_ = read_sequence_boxes(a.input / "boxes", seq.scans);
     moving_ = moving_boxes(boxes_, seq.poses, seq.times, a.speed);
   }
   std::vector<std::uint8_t> of(std::size_t i, const Scan& raw) const {
@@ -69,12 +66,7 @@ void convert(const Args& a) {
   if (seq.world_frame) throw Error(a.input.string() + ": already in the DynamicMap layout");
   if (!seq.has_poses()) throw Error(a.input.string() + ": no poses (give --poses, e.g. a run's poses.txt)");
   const Truth truth(seq, a);
-  PlatformMaskConfig mask_cfg;
-  std::vector<Eigen::Matrix3Xf> first;
-  for (std::size_t i = 0; i < std::min<std::size_t>(seq.size(), mask_cfg.learn_scans); ++i) {
-    first.push_back(load_scan(seq, i).scan.points);
-  }
-  const PlatformMask mask = learn_platform_mask(first, mask_cfg);
+  const PlatformMask mask = app::platform_mask(seq, PlatformMaskConfig{});  // as `cleanmap run` learns it
   fs::create_directories(a.out / "pcd");
   std::vector<Eigen::Vector3f> gt_points;
   std::vector<float> gt_moving;

@@ -33,6 +33,17 @@ std::vector<LabelBox> read_boxes(const std::filesystem::path& file) {
   return boxes;
 }
 
+std::vector<std::vector<LabelBox>> read_sequence_boxes(const std::filesystem::path& boxes_dir,
+                                                       const std::vector<std::filesystem::path>& scans) {
+  std::vector<std::vector<LabelBox>> boxes;
+  boxes.reserve(scans.size());
+  for (const auto& scan : scans) {
+    const auto file = boxes_dir / (scan.stem().string() + ".json");
+    boxes.push_back(std::filesystem::exists(file) ? read_boxes(file) : std::vector<LabelBox>{});
+  }
+  return boxes;
+}
+
 std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelBox>>& boxes,
                                             const std::vector<Eigen::Isometry3d>& poses,
                                             const std::vector<double>& times,

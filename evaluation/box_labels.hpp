@@ -22,6 +22,11 @@ struct LabelBox {
 
 std::vector<LabelBox> read_boxes(const std::filesystem::path& file);
 
+// The boxes of each scan of a sequence: `boxes_dir`/<scan file stem>.json, none where that file
+// is missing (a scan nobody annotated has no box).
+std::vector<std::vector<LabelBox>> read_sequence_boxes(const std::filesystem::path& boxes_dir,
+                                                       const std::vector<std::filesystem::path>& scans);
+
 // Per scan and box: is the object moving? Its centre is taken to the world frame with the
 // scan's pose; speed by central differences over the scans where the same id appears
 // (one-sided at its ends); moving when faster than `speed_threshold` m/s.

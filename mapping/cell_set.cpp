@@ -95,24 +95,6 @@ void CellSet::for_each_also_in(const CellSet& in, const CellSet& out,
   }
 }
 
-bool CellSet::contains_shared(const Key& k) const {
-  const auto it = index_.find(tile_id(k));
-  if (it == index_.end()) return false;
-  const auto m = cell_set_detail::local_morton(k);
-  return (tiles_[it->second].bits[m >> 6] >> (m & 63)) & 1u;
-}
-
-void CellSet::insert_all(const CellSet& other) {
-  for (const Tile& from : other.tiles_) {
-    Tile& to = tiles_[tile_for(from.base)];
-    for (std::size_t w = 0; w < to.bits.size(); ++w) {
-      const std::uint64_t added = from.bits[w] & ~to.bits[w];
-      to.bits[w] |= added;
-      size_ += static_cast<std::size_t>(__builtin_popcountll(added));
-    }
-  }
-}
-
 bool CellSet::contains(const Key& k) const {
   const auto t = find(k);
   if (t < 0) return false;

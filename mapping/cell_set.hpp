@@ -22,14 +22,9 @@ class CellSet {
   // True when the cell was not in the set yet.
   bool insert(const Key& k);
   bool contains(const Key& k) const;
-  // As contains, without the look-up cache: any number of threads may ask at once while no
-  // one inserts.
-  bool contains_shared(const Key& k) const;
   // Every cell of this set that is in `in` and not in `out`, tile by tile, 64 cells to a word
   // (any order).
   void for_each_also_in(const CellSet& in, const CellSet& out, const std::function<void(const Key&)>& visit) const;
-  // Adds every cell of `other` (tile by tile).
-  void insert_all(const CellSet& other);
   std::size_t size() const { return size_; }
 
   // Every cell, in octree order (the order of a depth-first walk of the OctoMap).

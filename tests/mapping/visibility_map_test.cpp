@@ -21,25 +21,19 @@ Eigen::Matrix3Xf one(float x, float y, float z) {
 
 const Eigen::Vector3d kOrigin(0.05, 0.05, 0.05);  // a cell centre: rays leave their own cell cleanly
 
-TEST(CellSet, AddsAnotherSetAndVisitsWhatIsInOneNotTheOther) {
+TEST(CellSet, VisitsWhatIsInOneSetAndNotTheOther) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> near(32768 - 60, 32768 + 60);
-  CellSet a, b, in, out;
-  std::set<CellSet::Key> ta, tb;
+  CellSet u, in, out;
+  std::set<CellSet::Key> tu;
   for (int i = 0; i < 5000; ++i) {
     const CellSet::Key k{static_cast<std::uint16_t>(near(rng)), static_cast<std::uint16_t>(near(rng)),
                          static_cast<std::uint16_t>(near(rng))};
-    (i % 2 ? a : b).insert(k);
-    (i % 2 ? ta : tb).insert(k);
+    u.insert(k);
+    tu.insert(k);
     if (i % 3 == 0) in.insert(k);
     if (i % 5 == 0) out.insert(k);
   }
-  CellSet u = a;
-  u.insert_all(b);
-  std::set<CellSet::Key> tu = ta;
-  tu.insert(tb.begin(), tb.end());
-  EXPECT_EQ(u.size(), tu.size());
-  for (const auto& k : tu) EXPECT_TRUE(u.contains_shared(k));
   std::set<CellSet::Key> visited;
   u.for_each_also_in(in, out, [&](const CellSet::Key& k) { visited.insert(k); });
   for (const auto& k : tu) EXPECT_EQ(visited.count(k) == 1, in.contains(k) && !out.contains(k));
