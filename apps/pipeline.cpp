@@ -155,6 +155,19 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     mapping_s += since(t);
   };
 
+  // The scorer's dynamic points leave the odometry's local map (`exclude_dynamic`). Offline it
+  // happens in pass 1, while odometry still runs: in pass 2 it came after the last pose.
+  auto feed_back = [&](const ScoredScan& r) {
+    if (!odom || !cfg.odometry.exclude_dynamic) return;
+    std::vector<Eigen::Vector3d> moving;
+    for (std::size_t i = 0; i < r.scan.size(); ++i) {
+      if (r.dynamic[i]) moving.push_back(r.scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
+    }
+    if (moving.empty()) return;
+    std::lock_guard<std::mutex> lock(odom_mutex);
+    odom->remove_dynamic(moving);
+  };
+
   // Pipeline stage 4: per-scan files, map clouds, metrics, and the odometry feedback.
   auto write_scan = [&](ScoredScan& r, const std::vector<std::uint32_t>& gt) {
     const auto t = Clock::now();
@@ -171,14 +184,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     if (opt.mapping && cfg.mapping.write_raw_map) {
       raw_cloud.add(scan, std::vector<std::uint8_t>(scan.size(), 1), r.score, r.index);
     }
-    if (odom && cfg.odometry.exclude_dynamic && n_dyn > 0) {
-      std::lock_guard<std::mutex> lock(odom_mutex);
-      std::vector<Eigen::Vector3d> moving;
-      for (std::size_t i = 0; i < scan.size(); ++i) {
-        if (r.dynamic[i]) moving.push_back(scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
-      }
-      odom->remove_dynamic(moving);
-    }
+    if (!offline) feed_back(r);
     write_scores(opt.out / "scores" / (scan.name + ".bin"), to_input_order(scan, r.score, std::nanf("")));
     write_labels(opt.out / "labels" / (scan.name + ".label"), to_input_order(scan, labels, kLabelUnscored));
     dynamic_cloud.add(scan, r.dynamic, r.score, r.index);
@@ -337,6 +343,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Item> item) {
                 for (auto& [r, labels] : item->scored) {
                   if (offline) {
+                    feed_back(r);
                     write_spill(spill_dir / (scan_name(r.index) + ".spill"), r, labels);
                   } else {
                     write_scan(r, labels);
