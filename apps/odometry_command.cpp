@@ -40,7 +40,7 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   odom.method = args.method;
   std::ofstream log(args.out / "odometry_log.csv");
   if (!log) fail(args.out / "odometry_log.csv", "cannot create file");
-  log << "scan,stamp,points,iterations,correspondences,rms_residual,threshold,degenerate,seconds,note\n";
+  log << "scan,stamp,points,iterations,correspondences,inlier_share,rms_residual,threshold,degenerate,recovered,seconds,note\n";
   std::vector<StampedPose> stamped;
   std::vector<double> seconds;
   std::size_t degenerate = 0;
@@ -55,8 +55,8 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
     degenerate += step.degenerate;
     log << loaded.scan.name << ',' << std::fixed << std::setprecision(6) << loaded.scan.stamp << ','
         << step.points << ',' << step.iterations << ',' << step.correspondences << ','
-        << step.rms_residual << ',' << step.threshold << ',' << step.degenerate << ','
-        << step.seconds << ',' << step.note << '\n';
+        << step.inlier_share << ',' << step.rms_residual << ',' << step.threshold << ','
+        << step.degenerate << ',' << step.recovered << ',' << step.seconds << ",\"" << step.note << "\"\n";
     if (args.write_scans) {
       // Deskewed already: without the per-point times, a later `score --input OUT` places the
       // points with the scan's pose alone instead of undistorting them a second time.

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -114,7 +115,27 @@ SyntheticWorld make_street_world(std::uint64_t seed) {
   return w;
 }
 
+namespace {
+
+Eigen::Isometry3d pose_on_path(const std::vector<PathKey>& path, double t, double height) {
+  const auto after = std::lower_bound(path.begin(), path.end(), t,
+                                      [](const PathKey& key, double time) { return key.t < time; });
+  PathKey at = after == path.end() ? path.back() : *after;
+  if (after != path.begin() && after != path.end()) {
+    const PathKey& a = *(after - 1);
+    const double f = (t - a.t) / (after->t - a.t);
+    at = {t, a.x + f * (after->x - a.x), a.y + f * (after->y - a.y), a.yaw + f * (after->yaw - a.yaw)};
+  }
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(at.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(at.x, at.y, height);
+  return pose;
+}
+
+}  // namespace
+
 Eigen::Isometry3d sensor_pose(const SyntheticWorld& w, double t) {
+  if (!w.path.empty()) return pose_on_path(w.path, t, w.sensor_height);
   const double k = 2 * M_PI / w.sway_period;
   const double x = w.speed * t;
   const double y = w.sway_amplitude * std::sin(k * t);

@@ -44,9 +44,20 @@ struct SceneObject {
   }
 };
 
+// A point of a keyframed sensor path: planar position and heading at time t.
+struct PathKey {
+  double t = 0.0;  // s
+  double x = 0.0, y = 0.0;
+  double yaw = 0.0;  // rad, unwrapped (2 pi + 0.1 is a full turn more than 0.1)
+};
+
 struct SyntheticWorld {
   std::vector<SceneObject> objects;
-  // Sensor path: forward at `speed` along x with a gentle lateral sway (yaw follows the path).
+  // Sensor path: forward at `speed` along x with a gentle lateral sway (yaw follows the path),
+  // unless `path` is given: then position and yaw are interpolated linearly between its keys
+  // (sorted by time; held before the first and after the last), so velocity may jump at a key
+  // as it does when a hand-held sensor starts turning.
+  std::vector<PathKey> path;
   double speed = 5.0;
   double sway_amplitude = 0.5;
   double sway_period = 8.0;

@@ -1,6 +1,8 @@
 #include "odometry/lidar_odometry.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "io/error.hpp"
 #include "io/voxel_downsample.hpp"
@@ -78,28 +80,52 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   }
   step.points = pre.size();
 
-  const Eigen::Matrix3Xf frame = pre.points(Eigen::all, voxel_downsample(pre.points, 0.5 * config_.map_voxel_size));
+  Eigen::Matrix3Xf frame = pre.points(Eigen::all, voxel_downsample(pre.points, 0.5 * config_.map_voxel_size));
   // The registered points: the frame downsampled again (a quarter of the work of another pass
   // over the whole scan).
-  const auto source = downsample(frame, config_.registration_voxel * config_.map_voxel_size);
+  auto source = downsample(frame, config_.registration_voxel * config_.map_voxel_size);
   step.threshold = threshold_.value();
   step.pose = prediction;
   if (static_cast<int>(pre.size()) < config_.min_points) {
     step.degenerate = true;
     step.note = "too few points (" + std::to_string(pre.size()) + ")";
   } else if (!map_.empty()) {
-    const auto r = method == "point_to_point"
-                       ? register_point_to_point(source, map_, prediction, step.threshold, config_)
-                       : register_point_to_plane(source, map_, prediction, step.threshold, config_);
-    step.iterations = r.iterations;
+    RegistrationResult r = align(source, prediction, {step.threshold, step.threshold});
+    // Over a long gap the sensor may have stopped (a hard stop changes the position by
+    // a dt^2 / 2 = 0.6 m over 0.5 s at 5 m/s^2, more than the adaptive gate learnt from steady
+    // motion): register from the previous pose too and keep the larger matched share.
+    if (0.5 * kMaxAcceleration * dt * dt > kStopGap) {
+      const RegistrationResult still = align(source, poses_.back(), {step.threshold, step.threshold});
+      step.iterations += still.iterations;
+      if (!still.degenerate && (r.degenerate || still.inlier_share > r.inlier_share)) r = still;
+    }
+    if (!healthy(r)) {
+      r = recover(source, prediction, dt, step, r);
+      if (step.recovered && config_.deskew && pre.has_time() && k > 0) {
+        // The sweep was undistorted with the predicted motion, which was wrong: undistort it
+        // with the registered one and register once more from there.
+        SweepMotion motion;
+        motion.next = poses_[k - 1].inverse() * r.pose;
+        motion.dt = dt;
+        pre = preprocess(scan, config_, dt > 0 ? dt : 0.1);
+        pre = deskew(pre, motion, step.reference_offset);
+        frame = pre.points(Eigen::all, voxel_downsample(pre.points, 0.5 * config_.map_voxel_size));
+        source = downsample(frame, config_.registration_voxel * config_.map_voxel_size);
+        const RegistrationResult again = align(source, r.pose, {step.threshold, step.threshold});
+        if (!again.degenerate && again.inlier_share >= r.inlier_share) r = again;
+      }
+    }
+    step.iterations += r.iterations;
     step.correspondences = r.correspondences;
     step.rms_residual = r.rms_residual;
+    step.inlier_share = r.inlier_share;
     if (r.degenerate) {
       step.degenerate = true;
       step.note = "registration under-constrained (" + std::to_string(r.correspondences) + " matches)";
     } else {
       step.pose = r.pose;
       threshold_.update(prediction.inverse() * r.pose);
+      if (healthy(r)) remember_share(r.inlier_share);
     }
   }
   if (!step.degenerate) {
@@ -114,6 +140,67 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   step.deskewed = std::move(pre);
   step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return step;
+}
+
+RegistrationResult LidarOdometry::align(const std::vector<Eigen::Vector3d>& source,
+                                        const Eigen::Isometry3d& initial,
+                                        const GateSchedule& gates) const {
+  if (method == "point_to_point") return register_point_to_point(source, map_, initial, gates.end, config_);
+  return register_point_to_plane(source, map_, initial, gates, config_);
+}
+
+// A registration is healthy when it settled and matched about as many of its points to map
+// planes as the recent healthy scans did. A wrong minimum can have the smaller residual (it
+// keeps only the matches that agree with it) but never the larger share: on the synthetic
+// walk a registration caught by a turn matched 20-35% of its points against 80-90% before.
+bool LidarOdometry::healthy(const RegistrationResult& r) const {
+  if (r.degenerate || !r.converged) return false;
+  if (recent_shares_.empty()) return true;
+  std::vector<double> shares(recent_shares_.begin(), recent_shares_.end());
+  std::nth_element(shares.begin(), shares.begin() + shares.size() / 2, shares.end());
+  return r.inlier_share >= kHealthyShare * shares[shares.size() / 2];
+}
+
+void LidarOdometry::remember_share(double share) {
+  recent_shares_.push_back(share);
+  if (recent_shares_.size() > kShareHistory) recent_shares_.pop_front();
+}
+
+// Registers again with a wide first gate (the one used before any motion is known) narrowing
+// to the adaptive one, from the prediction, from the previous pose (no motion), and from the
+// previous pose turned about the sensor's z axis by every 10 deg up to what a turn of
+// kMaxTurnRate could reach in dt (a wide gate's basin is about +-10 deg at 10 m). Keeps the
+// result that matched the largest share of points (all end with the same gate, so the shares
+// compare); `first` stays if none does better.
+RegistrationResult LidarOdometry::recover(const std::vector<Eigen::Vector3d>& source,
+                                          const Eigen::Isometry3d& prediction, double dt,
+                                          OdometryStep& step, const RegistrationResult& first) {
+  const GateSchedule wide{std::max(config_.initial_threshold, step.threshold), step.threshold};
+  std::vector<std::pair<std::string, Eigen::Isometry3d>> starts{{"prediction", prediction},
+                                                                {"previous pose", poses_.back()}};
+  const double reach = std::min(180.0, kMaxTurnRate * std::max(dt, 0.0));
+  for (double deg = kTurnStep; deg < reach + kTurnStep; deg += kTurnStep) {
+    for (double sign : {1.0, -1.0}) {
+      const Eigen::AngleAxisd turn(sign * deg * M_PI / 180.0, Eigen::Vector3d::UnitZ());
+      starts.emplace_back("previous pose turned " + std::to_string(static_cast<int>(sign * deg)) + " deg",
+                          poses_.back() * Eigen::Isometry3d(turn));
+    }
+  }
+  RegistrationResult best = first;
+  std::string from = "none";
+  for (const auto& [name, initial] : starts) {
+    const RegistrationResult r = align(source, initial, wide);
+    step.iterations += r.iterations;
+    if (r.degenerate || (!best.degenerate && r.inlier_share <= best.inlier_share)) continue;
+    best = r;
+    from = name;
+  }
+  char note[200];
+  std::snprintf(note, sizeof note, "recovery: matched share %.2f -> %.2f (from %s)%s", first.inlier_share,
+                best.inlier_share, from.c_str(), healthy(best) ? "" : ", still unhealthy");
+  step.note = note;
+  step.recovered = from != "none";
+  return best;
 }
 
 std::size_t LidarOdometry::remove_dynamic(const std::vector<Eigen::Vector3d>& world_points) {

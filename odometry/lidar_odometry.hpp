@@ -1,12 +1,14 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <deque>
 #include <string>
 #include <vector>
 
 #include "io/scan.hpp"
 #include "odometry/adaptive_threshold.hpp"
 #include "odometry/odometry_config.hpp"
+#include "odometry/point_to_plane_icp.hpp"
 #include "odometry/voxel_hash_map.hpp"
 
 namespace cleanmap {
@@ -19,9 +21,11 @@ struct OdometryStep {
   int iterations = 0;
   int correspondences = 0;
   double rms_residual = 0.0;
+  double inlier_share = 0.0;  // registered points lying on a map plane (see Health)
   double threshold = 0.0;
   std::size_t points = 0;   // after preprocessing
   bool degenerate = false;  // pose fell back to the motion prior; scan not added to the map
+  bool recovered = false;   // the first registration failed the health check; re-registered
   std::string note;
   double seconds = 0.0;
 };
@@ -45,12 +49,34 @@ class LidarOdometry {
   // "point_to_plane" (default) or "point_to_point" (the benchmark's baseline).
   std::string method = "point_to_plane";
 
+  // Healthy: matched share >= kHealthyShare x the median of the last kShareHistory healthy
+  // scans (on healthy real and synthetic scans it varies by +-10%; a caught registration halves).
+  static constexpr double kHealthyShare = 0.75;
+  static constexpr std::size_t kShareHistory = 10;
+  // Recovery tries turns up to this rate (deg/s; a brisk hand-held turn is 60-90) in steps of
+  // kTurnStep deg.
+  static constexpr double kMaxTurnRate = 90.0;
+  static constexpr double kTurnStep = 10.0;
+  // m/s^2: hard braking of a car (0.5 g); walkers and robots change speed more gently.
+  static constexpr double kMaxAcceleration = 5.0;
+  // m: a possible stop that moves the sensor less than this needs no second registration (at
+  // 10 Hz it is 2.5 cm, well inside any gate).
+  static constexpr double kStopGap = 0.1;
+
  private:
+  RegistrationResult align(const std::vector<Eigen::Vector3d>& source, const Eigen::Isometry3d& initial,
+                           const GateSchedule& gates) const;
+  bool healthy(const RegistrationResult& r) const;
+  void remember_share(double share);
+  RegistrationResult recover(const std::vector<Eigen::Vector3d>& source, const Eigen::Isometry3d& prediction,
+                             double dt, OdometryStep& step, const RegistrationResult& first);
+
   OdometryConfig config_;
   VoxelHashMap map_;
   AdaptiveThreshold threshold_;
   std::vector<Eigen::Isometry3d> poses_;
   std::vector<double> stamps_;
+  std::deque<double> recent_shares_;  // matched shares of the last healthy registrations
 };
 
 void validate(const OdometryConfig& config);

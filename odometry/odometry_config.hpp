@@ -14,7 +14,7 @@ struct OdometryConfig {
   double registration_voxel = 1.5;   // x map_voxel_size: downsampling of the registered points
   double initial_threshold = 2.0;    // m: correspondence distance before motion is observed
   double min_motion = 0.1;           // m: smaller steps do not update the adaptive threshold
-  int max_icp_iterations = 20;       // correspondence searches per scan
+  int max_icp_iterations = 100;      // cap on correspondence searches per scan (stops when settled)
   int solver_iterations = 5;         // Ceres iterations per correspondence set
   double convergence = 5e-4;         // stop when a step changes the pose less than this (m, rad)
   int normal_neighbors = 6;          // map points that define a local plane

@@ -10,7 +10,8 @@
 namespace cleanmap {
 namespace {
 
-constexpr double kPlaneReuse = 0.05;  // x map voxel size (5 cm at KISS-ICP's 1 m voxels)
+constexpr double kPlaneReuse = 0.05;
+constexpr int kMinMatches = 30;  // fewer plane matches: too little to register  // x map voxel size (5 cm at KISS-ICP's 1 m voxels)
 
 struct PlaneMatch {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   // source, sensor frame
@@ -53,8 +54,14 @@ void match_planes(const std::vector<Eigen::Vector3d>& source, const VoxelHashMap
       if ((q - fitted_at[i]).squaredNorm() <= reuse_sq) continue;
       fitted_at[i] = q;
       matches[i].weight = 0.0;
-      map.nearest(q, k, threshold, nn);
+      // Plane neighbours come from within a voxel, whatever the correspondence threshold: the
+      // map keeps its points min_spacing() apart, so a tight threshold (a still sensor's is
+      // centimetres) would otherwise find no plane at all. The threshold gates the nearest one.
+      map.nearest(q, k, map.voxel_size, nn);
       if (static_cast<int>(nn.size()) < std::max(3, k / 2)) continue;
+      double closest_sq = std::numeric_limits<double>::infinity();
+      for (const auto& p : nn) closest_sq = std::min(closest_sq, (p - q).squaredNorm());
+      if (closest_sq > threshold * threshold) continue;
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       for (const auto& p : nn) mean += p;
       mean /= static_cast<double>(nn.size());
@@ -90,11 +97,40 @@ bool settled(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double eps)
   return d.translation().norm() < eps && Eigen::AngleAxisd(d.rotation()).angle() < eps;
 }
 
+// One Ceres solve over the current matches, Cauchy loss of scale gate / 3 (KISS-ICP's kernel
+// of the adaptive threshold). Returns the residuals used and their RMS after the solve.
+std::pair<int, double> solve_matches(const std::vector<PlaneMatch>& matches, double gate,
+                                     int iterations, Eigen::Quaterniond& q, Eigen::Vector3d& t) {
+  ceres::Problem::Options po;
+  po.enable_fast_removal = false;
+  ceres::Problem problem(po);
+  problem.AddParameterBlock(q.coeffs().data(), 4, new ceres::EigenQuaternionManifold);
+  problem.AddParameterBlock(t.data(), 3);
+  auto* loss = new ceres::CauchyLoss(gate / 3.0);  // owned once by the problem
+  int used = 0;
+  for (const auto& m : matches) {
+    if (m.weight <= 0) continue;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointToPlane, 1, 4, 3>(new PointToPlane(m)),
+                             loss, q.coeffs().data(), t.data());
+    ++used;
+  }
+  if (used < kMinMatches) return {used, 0.0};
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = iterations;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return {used, std::sqrt(2.0 * summary.final_cost / used)};
+}
+
 }  // namespace
 
 RegistrationResult register_point_to_plane(const std::vector<Eigen::Vector3d>& source,
                                            const VoxelHashMap& map,
-                                           const Eigen::Isometry3d& initial, double threshold,
+                                           const Eigen::Isometry3d& initial,
+                                           const GateSchedule& gates,
                                            const OdometryConfig& config) {
   RegistrationResult result;
   Eigen::Quaterniond q(initial.rotation());
@@ -102,43 +138,31 @@ RegistrationResult register_point_to_plane(const std::vector<Eigen::Vector3d>& s
   std::vector<PlaneMatch> matches;
   std::vector<Eigen::Vector3d> fitted_at;
   const double reuse = kPlaneReuse * map.voxel_size;
+  double gate = std::max(gates.start, gates.end);
   for (int it = 0; it < config.max_icp_iterations; ++it) {
     const Eigen::Isometry3d before = Eigen::Translation3d(t) * q;
-    match_planes(source, map, before, threshold, config.normal_neighbors, reuse, matches, fitted_at);
-    ceres::Problem::Options po;
-    po.enable_fast_removal = false;
-    ceres::Problem problem(po);
-    problem.AddParameterBlock(q.coeffs().data(), 4, new ceres::EigenQuaternionManifold);
-    problem.AddParameterBlock(t.data(), 3);
-    auto* loss = new ceres::CauchyLoss(threshold / 3.0);  // owned once by the problem
-    int used = 0;
-    for (const auto& m : matches) {
-      if (m.weight <= 0) continue;
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointToPlane, 1, 4, 3>(new PointToPlane(m)),
-                               loss, q.coeffs().data(), t.data());
-      ++used;
-    }
+    match_planes(source, map, before, gate, config.normal_neighbors, reuse, matches, fitted_at);
+    const auto [used, rms] = solve_matches(matches, gate, config.solver_iterations, q, t);
     result.correspondences = used;
     result.iterations = it + 1;
-    if (used < 30) {
+    if (used < kMinMatches) {
       result.degenerate = true;
       break;
     }
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = config.solver_iterations;
-    so.num_threads = 1;
-    so.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    result.rms_residual = std::sqrt(2.0 * summary.final_cost / used);
-    const Eigen::Isometry3d after = Eigen::Translation3d(t) * q.normalized();
-    if (settled(before, after, config.convergence)) {
+    result.rms_residual = rms;
+    q.normalize();
+    if (!settled(before, Eigen::Translation3d(t) * q, config.convergence)) continue;
+    if (gate <= gates.end) {
       result.converged = true;
       break;
     }
+    // Settled with a wide gate: narrow it (halving) and match again, so the final pose is
+    // weighed with the gate the motion model has earned.
+    gate = std::max(gates.end, 0.5 * gate);
+    matches.clear();
   }
   result.pose = Eigen::Translation3d(t) * q.normalized();
+  result.inlier_share = source.empty() ? 0.0 : static_cast<double>(result.correspondences) / source.size();
   if (!result.degenerate && conditioning(matches, result.pose) < 1e-5) result.degenerate = true;
   return result;
 }
@@ -177,6 +201,7 @@ RegistrationResult register_point_to_point(const std::vector<Eigen::Vector3d>& s
       break;
     }
   }
+  result.inlier_share = source.empty() ? 0.0 : static_cast<double>(result.correspondences) / source.size();
   return result;
 }
 

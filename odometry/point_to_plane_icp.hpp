@@ -13,17 +13,27 @@ struct RegistrationResult {
   int iterations = 0;
   int correspondences = 0;
   double rms_residual = 0.0;  // m, point-to-plane, last iteration
+  double inlier_share = 0.0;  // source points matched to a map plane within the final gate
   bool converged = false;
   bool degenerate = false;    // too few correspondences or an unconstrained direction
 };
 
 // Registers sensor-frame points to the map: point-to-plane residuals n^T (T p - m) against
 // planes fitted to the map's nearest points (weighted by planarity), a Cauchy loss of scale
-// threshold / 3, solved with Ceres over T = (Eigen quaternion, translation); correspondences
+// gate / 3, solved with Ceres over T = (Eigen quaternion, translation); correspondences
 // are searched again after each solve until the pose settles.
+// Correspondence gates of one registration: matched first within `start`, halved each time the
+// pose settles, until it settles within `end` (coarse to fine: a wide basin when the prediction
+// may be poor, the final weighing with the gate the motion model has earned).
+struct GateSchedule {
+  double start = 2.0;  // m
+  double end = 2.0;    // m
+};
+
 RegistrationResult register_point_to_plane(const std::vector<Eigen::Vector3d>& source,
                                            const VoxelHashMap& map,
-                                           const Eigen::Isometry3d& initial, double threshold,
+                                           const Eigen::Isometry3d& initial,
+                                           const GateSchedule& gates,
                                            const OdometryConfig& config);
 
 // Plain point-to-point ICP (closed-form Umeyama alignment per iteration, no robust loss,

@@ -1,6 +1,7 @@
 #include "odometry/voxel_hash_map.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace cleanmap {
 
@@ -10,11 +11,19 @@ std::size_t VoxelHashMap::point_count() const {
   return n;
 }
 
+double VoxelHashMap::min_spacing() const {
+  return voxel_size / std::sqrt(static_cast<double>(max_points));
+}
+
 void VoxelHashMap::add(const std::vector<Eigen::Vector3d>& points) {
-  const double inv = 1.0 / voxel_size;
+  const double inv = 1.0 / voxel_size, spacing_sq = min_spacing() * min_spacing();
   for (const auto& p : points) {
     auto& v = voxels[voxel_of(p, inv)];
-    if (static_cast<int>(v.size()) < max_points) v.push_back(p);
+    if (static_cast<int>(v.size()) >= max_points) continue;
+    const bool known = std::any_of(v.begin(), v.end(), [&](const Eigen::Vector3d& m) {
+      return (m - p).squaredNorm() < spacing_sq;
+    });
+    if (!known) v.push_back(p);
   }
 }
 

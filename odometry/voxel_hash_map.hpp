@@ -20,7 +20,13 @@ struct VoxelHashMap {
   bool empty() const { return voxels.empty(); }
   std::size_t point_count() const;
 
+  // A point closer than min_spacing() to one the voxel holds is not added: a still sensor
+  // would otherwise fill each voxel with copies of the same few samples, and the k nearest
+  // neighbours of a point would span one sample's range noise instead of the surface (the
+  // planes then turn random, and registration from rest stuck at zero motion). The spacing
+  // lets max_points samples cover a voxel's face evenly (as KISS-ICP 1.x does).
   void add(const std::vector<Eigen::Vector3d>& points);
+  double min_spacing() const;
   void remove_far(const Eigen::Vector3d& origin);
   // Removes map points within `radius` of any of the given points (dynamic-point feedback).
   std::size_t remove_near(const std::vector<Eigen::Vector3d>& points, double radius);

@@ -134,6 +134,23 @@ TEST(LidarOdometry, DynamicFeedbackRemovesMapPoints) {
   EXPECT_LE(odom.local_map().point_count(), before - 50);
 }
 
+TEST(VoxelHashMap, AStillSensorDoesNotFillTheMapWithCopies) {
+  VoxelHashMap map;
+  std::vector<Eigen::Vector3d> scan;
+  for (int i = 0; i < 10; ++i) scan.emplace_back(0.05 + 0.3 * i, 0.5, 0.5);  // 0.3 m apart
+  map.add(scan);
+  const std::size_t once = map.point_count();
+  EXPECT_EQ(once, scan.size());
+  // The same samples again with 1 cm of noise: nothing new (min spacing 1 m / sqrt(20) = 0.22 m).
+  for (auto& p : scan) p += Eigen::Vector3d(0.01, -0.01, 0.0);
+  map.add(scan);
+  EXPECT_EQ(map.point_count(), once);
+  EXPECT_NEAR(map.min_spacing(), 1.0 / std::sqrt(20.0), 1e-12);
+  // Points between the old ones (0.15 m away) are still too close; a new surface is not.
+  map.add({Eigen::Vector3d(0.2, 0.5, 0.5), Eigen::Vector3d(0.2, 0.5, 0.9)});
+  EXPECT_EQ(map.point_count(), once + 1);
+}
+
 TEST(Deskew, InterpolationHitsBothEndsAndTheMiddle) {
   Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), b = Eigen::Isometry3d::Identity();
   b.translate(Eigen::Vector3d(2, 0, 0)).rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()));
