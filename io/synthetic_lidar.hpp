@@ -55,8 +55,8 @@ struct SyntheticWorld {
   std::vector<SceneObject> objects;
   // Sensor path: forward at `speed` along x with a gentle lateral sway (yaw follows the path),
   // unless `path` is given: then position and yaw are interpolated linearly between its keys
-  // (sorted by time; held before the first and after the last), so velocity may jump at a key
-  // as it does when a hand-held sensor starts turning.
+  // (sorted by time; held before the first and after the last). Velocity is constant between
+  // two keys, so dense keys trace any speed profile.
   std::vector<PathKey> path;
   double speed = 5.0;
   double sway_amplitude = 0.5;

@@ -29,6 +29,27 @@ double reference_fraction(const std::string& ref) {
 
 }  // namespace
 
+// Preprocessed; undistorted with `motion` (the sensor's motion over dt, in its own frame) when
+// one is given and the scan has per-point times; then downsampled twice.
+LidarOdometry::Prepared LidarOdometry::prepare(const Scan& scan, double dt,
+                                               const Eigen::Isometry3d* motion) const {
+  Prepared p;
+  p.scan = preprocess(scan, config_, dt > 0 ? dt : 0.1);
+  const double sweep = p.scan.has_time() ? static_cast<double>(p.scan.time.maxCoeff()) : 0.0;
+  p.reference_offset = reference_fraction(config_.deskew_reference) * sweep;
+  if (motion != nullptr && config_.deskew && p.scan.has_time()) {
+    SweepMotion m;
+    m.next = *motion;
+    m.dt = dt;
+    p.scan = deskew(p.scan, m, p.reference_offset);
+  }
+  p.frame = p.scan.points(Eigen::all, voxel_downsample(p.scan.points, 0.5 * config_.map_voxel_size));
+  // The registered points: the frame downsampled again (a quarter of the work of another pass
+  // over the whole scan).
+  p.source = downsample(p.frame, config_.registration_voxel * config_.map_voxel_size);
+  return p;
+}
+
 void validate(const OdometryConfig& c) {
   auto bad = [](const std::string& what) { throw Error("odometry: " + what); };
   if (!(c.min_range >= 0) || !(c.max_range > c.min_range)) bad("need 0 <= min_range < max_range");
@@ -69,53 +90,16 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
     last_step = poses_[k - 1].inverse() * prediction;
   }
 
-  Scan pre = preprocess(scan, config_, dt > 0 ? dt : 0.1);
-  const double sweep = pre.has_time() ? static_cast<double>(pre.time.maxCoeff()) : 0.0;
-  step.reference_offset = pre.has_time() ? reference_fraction(config_.deskew_reference) * sweep : 0.0;
-  if (config_.deskew && pre.has_time() && k > 1) {
-    SweepMotion motion;
-    motion.next = last_step;
-    motion.dt = dt;
-    pre = deskew(pre, motion, step.reference_offset);
-  }
-  step.points = pre.size();
-
-  Eigen::Matrix3Xf frame = pre.points(Eigen::all, voxel_downsample(pre.points, 0.5 * config_.map_voxel_size));
-  // The registered points: the frame downsampled again (a quarter of the work of another pass
-  // over the whole scan).
-  auto source = downsample(frame, config_.registration_voxel * config_.map_voxel_size);
+  Prepared p = prepare(scan, dt, k > 1 ? &last_step : nullptr);
+  step.reference_offset = p.reference_offset;
+  step.points = p.scan.size();
   step.threshold = threshold_.value();
   step.pose = prediction;
-  if (static_cast<int>(pre.size()) < config_.min_points) {
+  if (static_cast<int>(p.scan.size()) < config_.min_points) {
     step.degenerate = true;
-    step.note = "too few points (" + std::to_string(pre.size()) + ")";
+    step.note = "too few points (" + std::to_string(p.scan.size()) + ")";
   } else if (!map_.empty()) {
-    RegistrationResult r = align(source, prediction, {step.threshold, step.threshold});
-    // Over a long gap the sensor may have stopped (a hard stop changes the position by
-    // a dt^2 / 2 = 0.6 m over 0.5 s at 5 m/s^2, more than the adaptive gate learnt from steady
-    // motion): register from the previous pose too and keep the larger matched share.
-    if (0.5 * kMaxAcceleration * dt * dt > kStopGap) {
-      const RegistrationResult still = align(source, poses_.back(), {step.threshold, step.threshold});
-      step.iterations += still.iterations;
-      if (!still.degenerate && (r.degenerate || still.inlier_share > r.inlier_share)) r = still;
-    }
-    if (!healthy(r)) {
-      r = recover(source, prediction, dt, step, r);
-      if (step.recovered && config_.deskew && pre.has_time() && k > 0) {
-        // The sweep was undistorted with the predicted motion, which was wrong: undistort it
-        // with the registered one and register once more from there.
-        SweepMotion motion;
-        motion.next = poses_[k - 1].inverse() * r.pose;
-        motion.dt = dt;
-        pre = preprocess(scan, config_, dt > 0 ? dt : 0.1);
-        pre = deskew(pre, motion, step.reference_offset);
-        frame = pre.points(Eigen::all, voxel_downsample(pre.points, 0.5 * config_.map_voxel_size));
-        source = downsample(frame, config_.registration_voxel * config_.map_voxel_size);
-        const RegistrationResult again = align(source, r.pose, {step.threshold, step.threshold});
-        if (!again.degenerate && again.inlier_share >= r.inlier_share) r = again;
-      }
-    }
-    step.iterations += r.iterations;
+    const RegistrationResult r = register_prepared(scan, p, prediction, dt, step);
     step.correspondences = r.correspondences;
     step.rms_residual = r.rms_residual;
     step.inlier_share = r.inlier_share;
@@ -130,23 +114,54 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   }
   if (!step.degenerate) {
     std::vector<Eigen::Vector3d> world;
-    world.reserve(static_cast<std::size_t>(frame.cols()));
-    for (Eigen::Index k = 0; k < frame.cols(); ++k) world.push_back(step.pose * frame.col(k).cast<double>());
+    world.reserve(static_cast<std::size_t>(p.frame.cols()));
+    for (Eigen::Index k = 0; k < p.frame.cols(); ++k) world.push_back(step.pose * p.frame.col(k).cast<double>());
     map_.add(world);
     map_.remove_far(step.pose.translation());
   }
   poses_.push_back(step.pose);
   stamps_.push_back(scan.stamp);
-  step.deskewed = std::move(pre);
+  step.deskewed = std::move(p.scan);
   step.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return step;
 }
 
+// Registers `source` from `initial`; every registration's rounds count in step.iterations.
 RegistrationResult LidarOdometry::align(const std::vector<Eigen::Vector3d>& source,
-                                        const Eigen::Isometry3d& initial,
-                                        const GateSchedule& gates) const {
-  if (method == "point_to_point") return register_point_to_point(source, map_, initial, gates.end, config_);
-  return register_point_to_plane(source, map_, initial, gates, config_);
+                                        const Eigen::Isometry3d& initial, const GateSchedule& gates,
+                                        OdometryStep& step) const {
+  const RegistrationResult r = method == "point_to_point"
+                                   ? register_point_to_point(source, map_, initial, gates.end, config_)
+                                   : register_point_to_plane(source, map_, initial, gates, config_);
+  step.iterations += r.iterations;
+  return r;
+}
+
+// From the prediction; over a long gap also from the previous pose; then the health check, and
+// on failure the recovery, after which the sweep is undistorted with the motion found.
+RegistrationResult LidarOdometry::register_prepared(const Scan& scan, Prepared& p,
+                                                    const Eigen::Isometry3d& prediction, double dt,
+                                                    OdometryStep& step) const {
+  const GateSchedule adaptive{step.threshold, step.threshold};
+  RegistrationResult r = align(p.source, prediction, adaptive, step);
+  // Over a long gap the sensor may have stopped (a hard stop changes the position by
+  // a dt^2 / 2 = 0.6 m over 0.5 s at 5 m/s^2, more than the adaptive gate learnt from steady
+  // motion): register from the previous pose too and keep the larger matched share.
+  if (0.5 * kMaxAcceleration * dt * dt > kStopGap) {
+    const RegistrationResult still = align(p.source, poses_.back(), adaptive, step);
+    if (!still.degenerate && (r.degenerate || still.inlier_share > r.inlier_share)) r = still;
+  }
+  if (healthy(r)) return r;
+  r = recover(p.source, prediction, dt, step, r);
+  if (step.recovered && config_.deskew && p.scan.has_time()) {
+    // The sweep was undistorted with the predicted motion, which was wrong: undistort it
+    // with the registered one (that sweep is what the map gets) and register once more.
+    const Eigen::Isometry3d motion = poses_.back().inverse() * r.pose;
+    p = prepare(scan, dt, &motion);
+    const RegistrationResult redone = align(p.source, r.pose, adaptive, step);
+    if (!redone.degenerate && redone.inlier_share >= r.inlier_share) r = redone;
+  }
+  return r;
 }
 
 // A registration is healthy when it settled and matched about as many of its points to map
@@ -174,7 +189,7 @@ void LidarOdometry::remember_share(double share) {
 // compare); `first` stays if none does better.
 RegistrationResult LidarOdometry::recover(const std::vector<Eigen::Vector3d>& source,
                                           const Eigen::Isometry3d& prediction, double dt,
-                                          OdometryStep& step, const RegistrationResult& first) {
+                                          OdometryStep& step, const RegistrationResult& first) const {
   const GateSchedule wide{std::max(config_.initial_threshold, step.threshold), step.threshold};
   std::vector<std::pair<std::string, Eigen::Isometry3d>> starts{{"prediction", prediction},
                                                                 {"previous pose", poses_.back()}};
@@ -189,8 +204,7 @@ RegistrationResult LidarOdometry::recover(const std::vector<Eigen::Vector3d>& so
   RegistrationResult best = first;
   std::string from = "none";
   for (const auto& [name, initial] : starts) {
-    const RegistrationResult r = align(source, initial, wide);
-    step.iterations += r.iterations;
+    const RegistrationResult r = align(source, initial, wide, step);
     if (r.degenerate || (!best.degenerate && r.inlier_share <= best.inlier_share)) continue;
     best = r;
     from = name;

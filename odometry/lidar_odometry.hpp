@@ -64,12 +64,22 @@ class LidarOdometry {
   static constexpr double kStopGap = 0.1;
 
  private:
+  // A scan made ready for registration.
+  struct Prepared {
+    Scan scan;                            // preprocessed (and undistorted), sensor frame
+    double reference_offset = 0.0;        // s after the stamp that the pose refers to
+    Eigen::Matrix3Xf frame;               // downsampled to half a map voxel: enters the map
+    std::vector<Eigen::Vector3d> source;  // downsampled again: the registered points
+  };
+  Prepared prepare(const Scan& scan, double dt, const Eigen::Isometry3d* motion) const;
+  RegistrationResult register_prepared(const Scan& scan, Prepared& p, const Eigen::Isometry3d& prediction,
+                                       double dt, OdometryStep& step) const;
   RegistrationResult align(const std::vector<Eigen::Vector3d>& source, const Eigen::Isometry3d& initial,
-                           const GateSchedule& gates) const;
+                           const GateSchedule& gates, OdometryStep& step) const;
   bool healthy(const RegistrationResult& r) const;
   void remember_share(double share);
   RegistrationResult recover(const std::vector<Eigen::Vector3d>& source, const Eigen::Isometry3d& prediction,
-                             double dt, OdometryStep& step, const RegistrationResult& first);
+                             double dt, OdometryStep& step, const RegistrationResult& first) const;
 
   OdometryConfig config_;
   VoxelHashMap map_;

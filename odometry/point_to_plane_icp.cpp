@@ -10,8 +10,8 @@
 namespace cleanmap {
 namespace {
 
-constexpr double kPlaneReuse = 0.05;
-constexpr int kMinMatches = 30;  // fewer plane matches: too little to register  // x map voxel size (5 cm at KISS-ICP's 1 m voxels)
+constexpr double kPlaneReuse = 0.05;  // x map voxel size (5 cm at KISS-ICP's 1 m voxels)
+constexpr int kMinMatches = 30;       // fewer plane matches: too little to register
 
 struct PlaneMatch {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   // source, sensor frame

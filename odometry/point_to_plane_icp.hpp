@@ -18,10 +18,6 @@ struct RegistrationResult {
   bool degenerate = false;    // too few correspondences or an unconstrained direction
 };
 
-// Registers sensor-frame points to the map: point-to-plane residuals n^T (T p - m) against
-// planes fitted to the map's nearest points (weighted by planarity), a Cauchy loss of scale
-// gate / 3, solved with Ceres over T = (Eigen quaternion, translation); correspondences
-// are searched again after each solve until the pose settles.
 // Correspondence gates of one registration: matched first within `start`, halved each time the
 // pose settles, until it settles within `end` (coarse to fine: a wide basin when the prediction
 // may be poor, the final weighing with the gate the motion model has earned).
@@ -29,6 +25,12 @@ struct GateSchedule {
   double start = 2.0;  // m
   double end = 2.0;    // m
 };
+
+// Registers sensor-frame points to the map: point-to-plane residuals n^T (T p - m) against
+// planes fitted to the map's nearest points (weighted by planarity; neighbours within a voxel,
+// the nearest within the gate), a Cauchy loss of scale gate / 3, solved with Ceres over
+// T = (Eigen quaternion, translation); correspondences are searched again after each solve
+// until the pose settles with the last gate (at most config.max_icp_iterations rounds).
 
 RegistrationResult register_point_to_plane(const std::vector<Eigen::Vector3d>& source,
                                            const VoxelHashMap& map,
