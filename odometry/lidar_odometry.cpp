@@ -144,10 +144,16 @@ RegistrationResult LidarOdometry::register_prepared(const Scan& scan, Prepared& 
                                                     OdometryStep& step) const {
   const GateSchedule adaptive{step.threshold, step.threshold};
   RegistrationResult r = align(p.source, prediction, adaptive, step);
-  // Over a long gap the sensor may have stopped (a hard stop changes the position by
-  // a dt^2 / 2 = 0.6 m over 0.5 s at 5 m/s^2, more than the adaptive gate learnt from steady
-  // motion): register from the previous pose too and keep the larger matched share.
-  if (0.5 * kMaxAcceleration * dt * dt > kStopGap) {
+  // Over a long gap the sensor may have stopped: a hard stop puts it up to a dt^2 / 2 from the
+  // prediction (0.6 m over 0.5 s at 5 m/s^2). When that is more than the gate (the basin of the
+  // registration from the prediction) and the previous pose is a start of its own (the
+  // prediction moved away from it), register from the previous pose too and keep the larger
+  // matched share. On balm (0.5 s gaps) this runs while the walk starts from rest, not once
+  // the gate has grown with the walk's motion.
+  const Eigen::Isometry3d predicted_step = poses_.back().inverse() * prediction;
+  const bool distinct = predicted_step.translation().norm() > kStopGap ||
+                        Eigen::AngleAxisd(predicted_step.rotation()).angle() > kStopTurn * M_PI / 180.0;
+  if (distinct && 0.5 * kMaxAcceleration * dt * dt > std::max(kStopGap, step.threshold)) {
     const RegistrationResult still = align(p.source, poses_.back(), adaptive, step);
     if (!still.degenerate && (r.degenerate || still.inlier_share > r.inlier_share)) r = still;
   }

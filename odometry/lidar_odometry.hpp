@@ -59,9 +59,11 @@ class LidarOdometry {
   static constexpr double kTurnStep = 10.0;
   // m/s^2: hard braking of a car (0.5 g); walkers and robots change speed more gently.
   static constexpr double kMaxAcceleration = 5.0;
-  // m: a possible stop that moves the sensor less than this needs no second registration (at
-  // 10 Hz it is 2.5 cm, well inside any gate).
+  // A stop that moves the sensor less than kStopGap (m) or turns it less than kStopTurn (deg)
+  // from the prediction needs no second registration: the first starts within the basin of
+  // any gate (at 10 Hz a hard stop is 2.5 cm).
   static constexpr double kStopGap = 0.1;
+  static constexpr double kStopTurn = 1.0;
 
  private:
   // A scan made ready for registration.

@@ -67,7 +67,9 @@ void match_planes(const std::vector<Eigen::Vector3d>& source, const VoxelHashMap
       mean /= static_cast<double>(nn.size());
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
       for (const auto& p : nn) cov += (p - mean) * (p - mean).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+      // Closed form for 3x3 (Eigen's computeDirect): the iterative solver was 4% of the time.
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(cov);
       const auto& l = eig.eigenvalues();
       if (!(l[2] > 1e-12)) continue;
       const double planarity = (l[1] - l[0]) / l[2];
