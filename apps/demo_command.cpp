@@ -10,7 +10,7 @@
 #include "io/cloud_file.hpp"
 #include "io/label_file.hpp"
 #include "io/pose_file.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 
 namespace cleanmap::app {
 namespace fs = std::filesystem;

@@ -9,7 +9,7 @@
 
 #include "bench/bench_support.hpp"
 #include "dynamics/ground_segmentation.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "mapping/free_space_vote.hpp"
 #include "mapping/octomap_builder.hpp"
 #include "mapping/point_cloud_map.hpp"

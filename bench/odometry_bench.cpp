@@ -7,7 +7,7 @@
 
 #include "bench/bench_support.hpp"
 #include "io/sequence.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "odometry/lidar_odometry.hpp"
 
 namespace cleanmap {

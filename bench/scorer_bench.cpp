@@ -7,7 +7,7 @@
 
 #include "bench/bench_support.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "odometry/deskew.hpp"
 
 namespace cleanmap {

@@ -6,7 +6,7 @@
 #include <tsl/robin_map.h>
 
 #include "dynamics/spatiotemporal_normal.hpp"
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "io/error.hpp"
-#include "io/point_index.hpp"
+#include "geometry/point_index.hpp"
 
 namespace cleanmap {
 

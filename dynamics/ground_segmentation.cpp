@@ -9,7 +9,7 @@
 #include <string>
 
 #include "io/error.hpp"
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

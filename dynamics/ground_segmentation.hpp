@@ -7,7 +7,7 @@
 
 #include <tsl/robin_map.h>
 
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

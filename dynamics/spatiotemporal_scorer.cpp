@@ -15,9 +15,9 @@
 #include "dynamics/spatiotemporal_normal.hpp"
 #include "dynamics/upsample_scores.hpp"
 #include "io/error.hpp"
-#include "io/point_index.hpp"
-#include "io/voxel_downsample.hpp"
-#include "io/voxel_key.hpp"
+#include "geometry/point_index.hpp"
+#include "geometry/voxel_downsample.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 namespace {

@@ -8,8 +8,8 @@
 #include <tsl/robin_map.h>
 #include <tsl/robin_set.h>
 
-#include "io/point_index.hpp"
-#include "io/voxel_key.hpp"
+#include "geometry/point_index.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 namespace {

@@ -1,6 +1,6 @@
 #include "mapping/cell_set.hpp"
 
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 namespace {

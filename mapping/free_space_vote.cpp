@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "dynamics/euclidean_clusters.hpp"
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 
 namespace cleanmap {
 

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "io/error.hpp"
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 #include "mapping/carve_ray.hpp"
 #include "mapping/cell_set.hpp"
 

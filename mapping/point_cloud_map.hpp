@@ -9,7 +9,7 @@
 
 #include "io/cloud_file.hpp"
 #include "io/scan.hpp"
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

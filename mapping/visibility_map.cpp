@@ -8,7 +8,7 @@
 #include <string>
 
 #include "io/error.hpp"
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 #include "mapping/carve_ray.hpp"
 
 namespace cleanmap {

@@ -7,7 +7,7 @@
 
 #include <tsl/robin_map.h>
 
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 #include "mapping/cell_set.hpp"
 
 namespace octomap {

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "io/error.hpp"
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 #include "odometry/deskew.hpp"
 #include "odometry/point_to_plane_icp.hpp"
 #include "odometry/preprocess.hpp"

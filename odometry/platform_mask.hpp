@@ -8,7 +8,7 @@
 #include <tsl/robin_set.h>
 
 #include "io/scan.hpp"
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

@@ -7,7 +7,7 @@
 
 #include "io/cloud_file.hpp"
 #include "io/label_file.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "odometry/deskew.hpp"
 #include "tests/test_support.hpp"
 

@@ -5,7 +5,7 @@
 #include "dynamics/spatiotemporal_scorer.hpp"
 #include "evaluation/dynamic_metrics.hpp"
 #include "io/label_file.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "odometry/deskew.hpp"
 #include "tests/test_support.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 
 namespace cleanmap {
 namespace {

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/sequence.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <functional>
 
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "odometry/lidar_odometry.hpp"
 #include "tests/test_support.hpp"
 

@@ -1,7 +1,7 @@
 #include "odometry/lidar_odometry.hpp"
 
 #include "io/sequence.hpp"
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 #include "odometry/deskew.hpp"
 #include "tests/test_support.hpp"
 

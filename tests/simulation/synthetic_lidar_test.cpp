@@ -1,4 +1,4 @@
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 
 #include "io/label_file.hpp"
 #include "tests/test_support.hpp"

@@ -1,4 +1,4 @@
-#include "io/synthetic_lidar.hpp"
+#include "simulation/synthetic_lidar.hpp"
 
 #include <tbb/parallel_for.h>
 

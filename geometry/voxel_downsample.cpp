@@ -1,11 +1,11 @@
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 
 #include <climits>
 
 #include <tsl/robin_map.h>
 #include <tsl/robin_set.h>
 
-#include "io/voxel_key.hpp"
+#include "geometry/voxel_key.hpp"
 
 namespace cleanmap {
 

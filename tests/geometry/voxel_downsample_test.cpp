@@ -1,4 +1,4 @@
-#include "io/voxel_downsample.hpp"
+#include "geometry/voxel_downsample.hpp"
 
 #include <gtest/gtest.h>
 
