@@ -22,7 +22,8 @@ void write_summary(const std::filesystem::path& out, nlohmann::json summary, boo
   {
     std::ofstream f(tmp);
     if (!f) fail(tmp, "cannot create file");
-    f << summary.dump(2) << '\n';
+    // Replace, not throw, on invalid UTF-8: a message may quote a file's bytes.
+    f << summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     if (!f) fail(tmp, "write failed");
   }
   std::filesystem::rename(tmp, out / "summary.json");

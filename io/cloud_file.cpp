@@ -5,10 +5,10 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
-#include <cmath>
-#include <optional>
 
 #include "io/error.hpp"
+#include "io/pcd_file.hpp"
+#include "io/ply_file.hpp"
 #include "io/raw_cloud.hpp"
 
 namespace cleanmap {
@@ -31,60 +31,19 @@ TimeUnit parse_time_unit(const std::string& text) {
 }
 
 Scan read_cloud(const std::filesystem::path& file, const CloudReadOptions& options) {
-  if (!std::filesystem::is_regular_file(file)) fail(file, "no such file");
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  pcl::PCLPointCloud2 cloud;
-  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
-  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
   const auto ext = lower(file.extension().string());
-  int version = 0;
-  int rc = -1;
-  try {
-    if (ext == ".pcd") {
-      pcl::PCDReader reader;
-      // PCL maps a binary body without checking its length: check it against the header first.
-      int data_type = 0;
-      unsigned int data_idx = 0;
-      if (reader.readHeader(file.string(), cloud, origin, orientation, version, data_type,
-                            data_idx) < 0) {
-        fail(file, "invalid PCD header");
-      }
-      const std::uintmax_t need =
-          data_idx + static_cast<std::uintmax_t>(cloud.width) * cloud.height * cloud.point_step;
-      const auto have = std::filesystem::file_size(file);
-      if (data_type == 1 && have < need) {
-        fail(file, "truncated: binary data ends at byte " + std::to_string(have) + ", header needs " +
-                       std::to_string(need));
-      }
-      rc = reader.read(file.string(), cloud, origin, orientation, version);
-    } else if (ext == ".ply") {
-      rc = pcl::PLYReader().read(file.string(), cloud, origin, orientation, version);
-    } else {
-      fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
-    }
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    fail(file, std::string("unreadable ") + ext + " file (" + e.what() + ")");
+  CloudRecords records;
+  if (ext == ".pcd") {
+    records = read_pcd(file);
+  } else if (ext == ".ply") {
+    records = read_ply(file);
+  } else {
+    if (!std::filesystem::is_regular_file(file)) fail(file, "no such file");
+    fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
   }
-  if (rc < 0) fail(file, "unreadable or truncated " + ext + " file (header or data invalid)");
-  const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
-  if (cloud.data.size() < n * cloud.point_step) fail(file, "data shorter than its header says");
-
-  RawCloud raw;
-  raw.data = cloud.data.data();
-  raw.points = n;
-  raw.point_step = cloud.point_step;
-  for (const auto& f : cloud.fields) raw.fields.push_back({f.name, f.offset, f.datatype});
-  Scan scan = scan_from_raw_cloud(raw, file, options.time_unit);
+  Scan scan = scan_from_raw_cloud(records.view(), file, options.time_unit);
   scan.name = file.stem().string();
-
-  if (!origin.head<3>().isZero() || !orientation.coeffs().isApprox(Eigen::Quaternionf::Identity().coeffs())) {
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = orientation.cast<double>().normalized().toRotationMatrix();
-    pose.translation() = origin.head<3>().cast<double>();
-    scan.pose = pose;
-  }
+  if (records.viewpoint) scan.pose = records.viewpoint;
   return scan;
 }
 

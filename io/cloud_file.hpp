@@ -18,12 +18,13 @@ struct CloudReadOptions {
   TimeUnit time_unit = TimeUnit::kAuto;
 };
 
-// Reads a PCD (ascii, binary, binary_compressed; any field layout) or PLY file through PCL.
+// Reads a PCD (ascii, binary, binary_compressed; any field layout) or PLY (ascii, binary) file
+// with the project's own readers (pcd_file, ply_file), which check every declared size first.
 // x, y, z are required. Intensity comes from `intensity`, `remission`, `reflectivity`, `i`, or
 // the grey value of a packed `rgb`. Per-point time from `t`, `time`, `timestamp`, `stamp`; its
 // unit is detected from the spread of the values (a sweep lasts well under a second) unless
-// given; absolute times (epoch) become `stamp` plus relative times. A PCD VIEWPOINT other than
-// identity becomes the scan's pose. NaN points are kept; callers drop them.
+// given; absolute times (epoch) become `stamp` plus relative times. A PCD VIEWPOINT (or PLY
+// camera) other than identity becomes the scan's pose. NaN points are kept; callers drop them.
 Scan read_cloud(const std::filesystem::path& file, const CloudReadOptions& options = {});
 
 // A float32 per-point field to write beside x, y, z (e.g. "score", "label", "scan").

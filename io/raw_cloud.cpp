@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "io/error.hpp"
 
@@ -32,7 +33,7 @@ double load(const std::uint8_t* p) {
   return static_cast<double>(v);
 }
 
-double read_value(const std::uint8_t* p, std::uint8_t type) {
+double value_of(const std::uint8_t* p, std::uint8_t type) {
   switch (type) {
     case kInt8: return load<std::int8_t>(p);
     case kUint8: return load<std::uint8_t>(p);
@@ -52,7 +53,7 @@ double read_value(const std::uint8_t* p, std::uint8_t type) {
 std::vector<double> column(const RawCloud& cloud, const RawField& f) {
   std::vector<double> out(cloud.points);
   for (std::size_t i = 0; i < cloud.points; ++i) {
-    out[i] = read_value(cloud.data + i * cloud.point_step + f.offset, f.datatype);
+    out[i] = value_of(cloud.data + i * cloud.point_step + f.offset, f.datatype);
   }
   return out;
 }
@@ -77,12 +78,70 @@ double detect_time_scale(double spread) {
 
 }  // namespace
 
+double read_value(const std::uint8_t* p, std::uint8_t datatype) { return value_of(p, datatype); }
+
+std::uint32_t type_size(std::uint8_t datatype) {
+  switch (datatype) {
+    case kInt8: case kUint8: return 1;
+    case kInt16: case kUint16: return 2;
+    case kInt32: case kUint32: case kFloat32: return 4;
+    case kFloat64: case kInt64: case kUint64: return 8;
+    default: return 0;
+  }
+}
+
+namespace {
+
+template <typename T>
+bool store_integer(double value, std::uint8_t* out) {
+  // 2^63 and 2^64 are exact doubles; the limits of the narrower types are too.
+  const double lo = static_cast<double>(std::numeric_limits<T>::min());
+  const double hi = static_cast<double>(std::numeric_limits<T>::max());
+  if (!(value >= lo && value <= hi) || value != std::floor(value)) return false;
+  const T v = value >= hi ? std::numeric_limits<T>::max() : static_cast<T>(value);
+  std::memcpy(out, &v, sizeof(T));
+  return true;
+}
+
+}  // namespace
+
+bool store_value(double value, std::uint8_t datatype, std::uint8_t* out) {
+  switch (datatype) {
+    case kInt8: return store_integer<std::int8_t>(value, out);
+    case kUint8: return store_integer<std::uint8_t>(value, out);
+    case kInt16: return store_integer<std::int16_t>(value, out);
+    case kUint16: return store_integer<std::uint16_t>(value, out);
+    case kInt32: return store_integer<std::int32_t>(value, out);
+    case kUint32: return store_integer<std::uint32_t>(value, out);
+    case kInt64: return store_integer<std::int64_t>(value, out);
+    case kUint64: return store_integer<std::uint64_t>(value, out);
+    case kFloat32: {
+      const float v = static_cast<float>(value);
+      std::memcpy(out, &v, 4);
+      return true;
+    }
+    case kFloat64: std::memcpy(out, &value, 8); return true;
+    default: return false;
+  }
+}
+
 Scan scan_from_raw_cloud(const RawCloud& cloud, const std::filesystem::path& source,
                          TimeUnit time_unit) {
   for (const auto& f : cloud.fields) {
     if (f.datatype < kInt8 || f.datatype > kUint64) {
       fail(source, "field '" + f.name + "' has unknown type code " + std::to_string(f.datatype));
     }
+    if (static_cast<std::uint64_t>(f.offset) + type_size(f.datatype) > cloud.point_step) {
+      fail(source, "field '" + f.name + "' (offset " + std::to_string(f.offset) + ", " +
+                       std::to_string(type_size(f.datatype)) + " bytes) lies beyond the point step of " +
+                       std::to_string(cloud.point_step) + " bytes");
+    }
+  }
+  // Both factors come from a header: compare by division, a product could wrap.
+  if (cloud.points > 0 && (cloud.point_step == 0 || cloud.bytes / cloud.point_step < cloud.points)) {
+    fail(source, "data holds " + std::to_string(cloud.bytes) + " bytes, fewer than " +
+                     std::to_string(cloud.points) + " points of " + std::to_string(cloud.point_step) +
+                     " bytes need");
   }
   const auto* fx = find_field(cloud, {"x"});
   const auto* fy = find_field(cloud, {"y"});
@@ -100,7 +159,7 @@ Scan scan_from_raw_cloud(const RawCloud& cloud, const std::filesystem::path& sou
   if (const auto* fi = find_field(cloud, {"intensity", "remission", "reflectivity", "i"})) {
     const auto v = column(cloud, *fi);
     scan.intensity = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(n)).cast<float>();
-  } else if (const auto* frgb = find_field(cloud, {"rgb", "rgba"})) {
+  } else if (const auto* frgb = find_field(cloud, {"rgb", "rgba"}); frgb && type_size(frgb->datatype) == 4) {
     // A grey value packed into the colour bytes of a float: take the red byte.
     scan.intensity.resize(static_cast<Eigen::Index>(n));
     for (std::size_t i = 0; i < n; ++i) {

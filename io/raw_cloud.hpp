@@ -1,6 +1,8 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -21,11 +23,33 @@ struct RawField {
 struct RawCloud {
   std::vector<RawField> fields;
   const std::uint8_t* data = nullptr;  // points * point_step bytes, little-endian
+  std::size_t bytes = 0;               // readable bytes at `data`
   std::size_t points = 0;
   std::uint32_t point_step = 0;
 };
 
-// x, y, z (required), intensity (`intensity`, `remission`, `reflectivity`, `i`, or the grey
+// Records read from a file (PCD, PLY), owning their bytes.
+struct CloudRecords {
+  std::vector<RawField> fields;
+  std::vector<std::uint8_t> data;
+  std::size_t points = 0;
+  std::uint32_t point_step = 0;
+  std::optional<Eigen::Isometry3d> viewpoint;  // the sensor pose the file states, if any
+  RawCloud view() const { return {fields, data.data(), data.size(), points, point_step}; }
+};
+
+// The little-endian value at `p` of a type code, as double (NaN for an unknown code).
+double read_value(const std::uint8_t* p, std::uint8_t datatype);
+
+// Bytes of one value of a type code (0 for an unknown code).
+std::uint32_t type_size(std::uint8_t datatype);
+
+// Stores `value` at `out` as the type code's little-endian value; false when it does not fit
+// (not an integer, or out of range, for the integer types).
+bool store_value(double value, std::uint8_t datatype, std::uint8_t* out);
+
+// Checks the layout first (a point step, every field inside it, the bytes for every point: a
+// lying PointCloud2 or file header fails here, naming `source`), then reads x, y, z (required), intensity (`intensity`, `remission`, `reflectivity`, `i`, or the grey
 // value of a packed `rgb`) and per-point time (`t`, `time`, `timestamp`, `stamp`, unit detected
 // from the spread unless given; epoch times become stamp + offsets). `source` names the input
 // in errors.

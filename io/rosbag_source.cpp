@@ -17,18 +17,24 @@
 namespace cleanmap {
 namespace {
 
-Eigen::Isometry3d to_pose(const geometry_msgs::Transform& t) {
+// A pose from a message; nullopt unless every number is finite and the quaternion has a length
+// (a NaN or zero quaternion would turn every later point into NaN).
+std::optional<Eigen::Isometry3d> checked_pose(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
+  if (!q.coeffs().allFinite() || !t.allFinite() || !(q.norm() > 1e-6)) return std::nullopt;
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
-  p.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  p.linear() = q.normalized().toRotationMatrix();
+  p.translation() = t;
   return p;
 }
 
-Eigen::Isometry3d to_pose(const geometry_msgs::Pose& t) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.linear() = Eigen::Quaterniond(t.orientation.w, t.orientation.x, t.orientation.y, t.orientation.z).normalized().toRotationMatrix();
-  p.translation() = Eigen::Vector3d(t.position.x, t.position.y, t.position.z);
-  return p;
+std::optional<Eigen::Isometry3d> to_pose(const geometry_msgs::Transform& t) {
+  return checked_pose(Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z),
+                      Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z));
+}
+
+std::optional<Eigen::Isometry3d> to_pose(const geometry_msgs::Pose& t) {
+  return checked_pose(Eigen::Quaterniond(t.orientation.w, t.orientation.x, t.orientation.y, t.orientation.z),
+                      Eigen::Vector3d(t.position.x, t.position.y, t.position.z));
 }
 
 // Pose at time t from a time-sorted track, interpolated between its neighbours; held
@@ -80,21 +86,30 @@ BagSource::BagSource(const std::filesystem::path& file, const BagOptions& option
     if (!options.pose_topic.empty()) {
       std::map<double, Eigen::Isometry3d> track;
       rosbag::View poses(impl_->bag, rosbag::TopicQuery(options.pose_topic));
+      std::size_t index = 0;
+      auto add = [&](double stamp, const std::optional<Eigen::Isometry3d>& pose) {
+        if (!pose) {
+          fail(file, "pose topic " + options.pose_topic + ", message " + std::to_string(index) +
+                         ": not a finite pose (NaN, infinite or zero-length quaternion)");
+        }
+        track[stamp] = *pose;
+      };
       for (const auto& m : poses) {
         if (auto odom = m.instantiate<nav_msgs::Odometry>()) {
-          track[odom->header.stamp.toSec()] = to_pose(odom->pose.pose);
+          add(odom->header.stamp.toSec(), to_pose(odom->pose.pose));
         } else if (auto tf = m.instantiate<geometry_msgs::TransformStamped>()) {
-          track[tf->header.stamp.toSec()] = to_pose(tf->transform);
+          add(tf->header.stamp.toSec(), to_pose(tf->transform));
         } else if (auto tfs = m.instantiate<tf2_msgs::TFMessage>()) {
           for (const auto& t : tfs->transforms) {
             if (options.child_frame.empty() || t.child_frame_id == options.child_frame) {
-              track[t.header.stamp.toSec()] = to_pose(t.transform);
+              add(t.header.stamp.toSec(), to_pose(t.transform));
             }
           }
         } else {
           fail(file, "pose topic " + options.pose_topic + " carries " + m.getDataType() +
                          " (expected nav_msgs/Odometry, geometry_msgs/TransformStamped or tf2_msgs/TFMessage)");
         }
+        ++index;
       }
       if (track.empty()) fail(file, "no poses on topic " + options.pose_topic);
       for (double t : stamps_) poses_.push_back(pose_at(track, t));
@@ -118,11 +133,9 @@ Scan BagSource::read(std::size_t index, TimeUnit time_unit) const {
   if (!msg) fail(file_, "message " + std::to_string(index) + " on " + topic_ + " is not a PointCloud2");
   if (msg->is_bigendian) fail(file_, "big-endian point clouds are not supported");
   const std::size_t n = static_cast<std::size_t>(msg->width) * msg->height;
-  if (msg->data.size() < n * msg->point_step) {
-    fail(file_, "message " + std::to_string(index) + ": data shorter than width x height x point_step");
-  }
   RawCloud raw;
   raw.data = msg->data.data();
+  raw.bytes = msg->data.size();  // scan_from_raw_cloud checks the layout against it
   raw.points = n;
   raw.point_step = msg->point_step;
   for (const auto& f : msg->fields) raw.fields.push_back({f.name, f.offset, f.datatype});

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "io/sequence.hpp"
@@ -45,8 +46,11 @@ sensor_msgs::PointCloud2 to_message(const Scan& scan, double stamp) {
   return msg;
 }
 
+// Changes a message before it is written (message index i: odometry every 0.05 s, a cloud on even i).
+using Tamper = std::function<void(int i, nav_msgs::Odometry&, sensor_msgs::PointCloud2*)>;
+
 // Six scans of the synthetic street at 10 Hz and its poses as Odometry at 20 Hz.
-std::vector<SyntheticScan> write_bag(const std::filesystem::path& file, int scans = 6) {
+std::vector<SyntheticScan> write_bag(const std::filesystem::path& file, int scans = 6, const Tamper& tamper = {}) {
   LidarModel lidar;
   lidar.beams = 32;
   lidar.columns = 512;
@@ -68,11 +72,14 @@ std::vector<SyntheticScan> write_bag(const std::filesystem::path& file, int scan
     odom.pose.pose.orientation.x = q.x();
     odom.pose.pose.orientation.y = q.y();
     odom.pose.pose.orientation.z = q.z();
-    bag.write("/odom", odom.header.stamp, odom);
+    sensor_msgs::PointCloud2 cloud;
     if (i % 2 == 0) {
       out.push_back(simulate_scan(world, lidar, static_cast<std::size_t>(i / 2), 5));
-      bag.write("/os_cloud_node/points", ros::Time(t0 + t), to_message(out.back().scan, t0 + t));
+      cloud = to_message(out.back().scan, t0 + t);
     }
+    if (tamper) tamper(i, odom, i % 2 == 0 ? &cloud : nullptr);
+    bag.write("/odom", odom.header.stamp, odom);
+    if (i % 2 == 0) bag.write("/os_cloud_node/points", ros::Time(t0 + t), cloud);
   }
   bag.close();
   return out;
@@ -108,6 +115,29 @@ TEST(RosBag, TruncatedBagAndUnknownTopicAreClearErrors) {
   std::filesystem::copy_file(dir / "log.bag", dir / "cut.bag");
   std::filesystem::resize_file(dir / "cut.bag", std::filesystem::file_size(dir / "cut.bag") / 3);
   test::expect_error([&] { open_sequence(dir / "cut.bag"); }, {"cut.bag"});
+}
+
+TEST(RosBag, LyingPointLayoutsAndNanPosesAreClearErrors) {
+  test::TempDir dir;
+  // Scan 1: a field's offset beyond point_step (read past the buffer before); scan 2: point_step 0.
+  write_bag(dir / "layout.bag", 3, [](int i, nav_msgs::Odometry&, sensor_msgs::PointCloud2* c) {
+    if (c && i == 2) c->fields[2].offset = 40;
+    if (c && i == 4) c->point_step = 0;
+  });
+  const auto seq = open_sequence(dir / "layout.bag");
+  EXPECT_EQ(load_scan(seq, 0).scan.size(), load_scan(seq, 0).scan.input_size);
+  test::expect_error([&] { load_scan(seq, 1); }, {"layout.bag", "#1", "field 'z'", "beyond the point step"});
+  test::expect_error([&] { load_scan(seq, 2); }, {"layout.bag", "#2", "beyond the point step of 0 bytes"});
+  write_bag(dir / "nan.bag", 3, [](int i, nav_msgs::Odometry& o, sensor_msgs::PointCloud2*) {
+    if (i == 3) o.pose.pose.orientation.w = std::nan("");
+  });
+  SequenceOptions o;
+  o.bag_pose_topic = "/odom";
+  test::expect_error([&] { open_sequence(dir / "nan.bag", o); }, {"nan.bag", "/odom", "message 3", "not a finite pose"});
+  std::string out;
+  EXPECT_EQ(test::run_cleanmap("run --input " + (dir / "layout.bag").string() + " --out " + (dir / "out").string(), &out), 1)
+      << out;
+  EXPECT_NE(out.find("beyond the point step"), std::string::npos) << out;
 }
 
 TEST(RosBag, RunTakesABagEndToEnd) {
