@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "apps/commands.hpp"
+#include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/pipeline.hpp"
 #include "evaluation/trajectory_metrics.hpp"
@@ -28,52 +29,60 @@ TrajectoryNumbers evaluate(const fs::path& est_file, const fs::path& ref_file) {
   return {kitti_errors(r, e), absolute_pose_error(r, e, Alignment::kSE3), relative_pose_error(r, e, 1)};
 }
 
+struct CompareArgs {
+  fs::path input, out = "cleanmap-compare", config, ref;
+  bool overwrite = false;
+  PresetOptions options;
+};
+
+void run_compare(const CLI::App& cmd, const CompareArgs& args, const fs::path& ref) {
+  // The reference is read before the first odometry pass, not after it.
+  const auto reference = read_poses(ref);
+  if (reference.size() < 2) fail(ref, "needs at least 2 reference poses to compare odometry errors");
+  PipelineConfig cfg = args.options.resolve(cmd, args.config);
+  cfg.input.poses.clear();  // the sequence's own poses are the reference, not an input here
+  std::vector<TrajectoryNumbers> results;
+  for (bool removal : {false, true}) {
+    cfg.odometry.exclude_dynamic = removal;
+    const fs::path out = args.out / (removal ? "with" : "without");
+    run_pipeline({args.input, out, true, false, removal ? "compare (removal on)" : "compare (removal off)"}, cfg, {});
+    results.push_back(evaluate(out / "poses_kitti.txt", ref));
+  }
+  const auto& a = results[0];
+  const auto& b = results[1];
+  std::printf("\n%-34s %14s %14s\n", "odometry error", "removal off", "removal on");
+  std::printf("%-34s %14.3f %14.3f\n", "KITTI t_err [%]", a.kitti.t_err_percent, b.kitti.t_err_percent);
+  std::printf("%-34s %14.4f %14.4f\n", "KITTI r_err [deg/100 m]", a.kitti.r_err_deg_per_100m, b.kitti.r_err_deg_per_100m);
+  std::printf("%-34s %14.4f %14.4f\n", "APE (SE3) translation RMSE [m]", a.ape.translation.rmse, b.ape.translation.rmse);
+  std::printf("%-34s %14.4f %14.4f\n", "RPE (1 frame) translation RMSE [m]", a.rpe.translation.rmse, b.rpe.translation.rmse);
+  std::printf("%-34s %14.4f %14.4f\n", "RPE (1 frame) rotation RMSE [deg]", a.rpe.rotation.rmse, b.rpe.rotation.rmse);
+  auto js = [](const TrajectoryNumbers& t) {
+    return nlohmann::json{{"kitti_t_err_percent", json_number(t.kitti.t_err_percent)},
+                          {"kitti_r_err_deg_per_100m", json_number(t.kitti.r_err_deg_per_100m)},
+                          {"ape_rmse_m", t.ape.translation.rmse},
+                          {"rpe_translation_rmse_m", t.rpe.translation.rmse},
+                          {"rpe_rotation_rmse_deg", t.rpe.rotation.rmse}};
+  };
+  write_summary(args.out, {{"command", "compare"}, {"reference", ref.string()},
+                           {"removal_off", js(a)}, {"removal_on", js(b)}}, true);
+}
+
 }  // namespace
 
 void register_compare(CLI::App& app) {
-  struct Args {
-    fs::path input, out = "cleanmap-compare", config, ref;
-    PresetOptions options;
-  };
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<CompareArgs>();
   auto* cmd = app.add_subcommand("compare", "Odometry with and without dynamic-point removal from its "
                                             "local map, errors side by side");
   cmd->add_option("--input", args->input, "Sequence folder")->required();
-  cmd->add_option("--out", args->out, "Output folder (runs in OUT/without and OUT/with)")->capture_default_str();
+  add_output_options(*cmd, args->out, args->overwrite, "Output folder (runs in OUT/without and OUT/with)");
   cmd->add_option("--ref", args->ref, "Reference poses; default <input>/poses.txt");
   cmd->add_option("--config", args->config, "YAML preset (sections input, odometry, scorer)");
   args->options.add_to(*cmd, PresetOptions::kOdometry | PresetOptions::kScorer);
   cmd->callback([cmd, args] {
-    PipelineConfig cfg = args->options.resolve(*cmd, args->config);
     const fs::path ref = args->ref.empty() ? args->input / "poses.txt" : args->ref;
-    if (!fs::exists(ref)) fail(ref, "no reference poses (give --ref FILE)");
-    cfg.input.poses.clear();  // the sequence's own poses are the reference, not an input here
-    std::vector<TrajectoryNumbers> results;
-    for (bool removal : {false, true}) {
-      cfg.odometry.exclude_dynamic = removal;
-      const fs::path out = args->out / (removal ? "with" : "without");
-      run_guarded(out, "compare", [&] {
-        run_pipeline({args->input, out, true, false, removal ? "compare (removal on)" : "compare (removal off)"}, cfg, {});
-      });
-      results.push_back(evaluate(out / "poses_kitti.txt", ref));
-    }
-    const auto& a = results[0];
-    const auto& b = results[1];
-    std::printf("\n%-34s %14s %14s\n", "odometry error", "removal off", "removal on");
-    std::printf("%-34s %14.3f %14.3f\n", "KITTI t_err [%]", a.kitti.t_err_percent, b.kitti.t_err_percent);
-    std::printf("%-34s %14.4f %14.4f\n", "KITTI r_err [deg/100 m]", a.kitti.r_err_deg_per_100m, b.kitti.r_err_deg_per_100m);
-    std::printf("%-34s %14.4f %14.4f\n", "APE (SE3) translation RMSE [m]", a.ape.translation.rmse, b.ape.translation.rmse);
-    std::printf("%-34s %14.4f %14.4f\n", "RPE (1 frame) translation RMSE [m]", a.rpe.translation.rmse, b.rpe.translation.rmse);
-    std::printf("%-34s %14.4f %14.4f\n", "RPE (1 frame) rotation RMSE [deg]", a.rpe.rotation.rmse, b.rpe.rotation.rmse);
-    auto js = [](const TrajectoryNumbers& t) {
-      return nlohmann::json{{"kitti_t_err_percent", json_number(t.kitti.t_err_percent)},
-                            {"kitti_r_err_deg_per_100m", json_number(t.kitti.r_err_deg_per_100m)},
-                            {"ape_rmse_m", t.ape.translation.rmse},
-                            {"rpe_translation_rmse_m", t.rpe.translation.rmse},
-                            {"rpe_rotation_rmse_deg", t.rpe.rotation.rmse}};
-    };
-    write_summary(args->out, {{"command", "compare"}, {"reference", ref.string()},
-                              {"removal_off", js(a)}, {"removal_on", js(b)}}, true);
+    auto files = args->options.input_files();
+    for (const auto& f : {args->input, args->config, ref}) files.push_back(f);
+    run_guarded(output_request(args->out, "compare", args->overwrite, files), [&] { run_compare(*cmd, *args, ref); });
   });
 }
 

@@ -4,6 +4,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/config_fields.hpp"
+#include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/pipeline.hpp"
 #include "apps/progress.hpp"
@@ -32,6 +33,7 @@ auto synthetic_fields() {
 struct DemoArgs {
   fs::path out = "cleanmap-demo";
   fs::path config;
+  bool overwrite = false;
   bool generate_only = false;
   bool static_scene = false;
   SyntheticConfig cli;  // values as given on the command line
@@ -123,12 +125,14 @@ void register_demo(CLI::App& app) {
   auto args = std::make_shared<DemoArgs>();
   auto* cmd = app.add_subcommand("demo", "Simulate a street (moving cars and pedestrians) seen by "
                                          "a spinning lidar, then build its clean map from the raw scans");
-  cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+  add_output_options(*cmd, args->out, args->overwrite, "Output folder");
   cmd->add_option("--config", args->config, "YAML preset (section 'synthetic')");
   cmd->add_flag("--generate-only", args->generate_only, "Only write the synthetic sequence");
   cmd->add_flag("--static-scene", args->static_scene, "Nothing moves but the sensor (a check: nothing should be removed)");
   add_options(*cmd, args->cli, synthetic_fields());
-  cmd->callback([cmd, args] { run_guarded(args->out, "demo", [&] { run_demo(*cmd, *args); }); });
+  cmd->callback([cmd, args] {
+    run_guarded(output_request(args->out, "demo", args->overwrite, {args->config}), [&] { run_demo(*cmd, *args); });
+  });
 }
 
 }  // namespace cleanmap::app

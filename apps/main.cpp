@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "io/error.hpp"
 
 int main(int argc, char** argv) {
@@ -31,6 +32,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const cleanmap::app::Interrupted& e) {
+    std::fprintf(stderr, "\ncleanmap: %s\n", e.what());
+    return 130;  // as a shell reports a process ended by SIGINT
   } catch (const cleanmap::Error& e) {
     std::fprintf(stderr, "cleanmap: error: %s\n", e.what());
     return 1;

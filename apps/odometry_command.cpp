@@ -3,6 +3,7 @@
 #include <iomanip>
 
 #include "apps/commands.hpp"
+#include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/progress.hpp"
 #include "apps/settings.hpp"
@@ -15,6 +16,7 @@ namespace {
 
 struct OdometryArgs {
   fs::path input, out = "cleanmap-odometry", config;
+  bool overwrite = false;
   bool write_scans = false;
   std::string method = "point_to_plane";
   PresetOptions options;
@@ -91,14 +93,19 @@ void register_odometry(CLI::App& app) {
   auto* cmd = app.add_subcommand("odometry", "Estimate one pose per scan (deskewing, point-to-plane "
                                              "registration to a local map)");
   cmd->add_option("--input", args->input, "Sequence folder")->required();
-  cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+  add_output_options(*cmd, args->out, args->overwrite, "Output folder");
   cmd->add_option("--config", args->config, "YAML preset (sections 'input', 'odometry')");
   cmd->add_flag("--write-scans", args->write_scans, "Also write the deskewed scans (OUT/scans)");
   cmd->add_option("--method", args->method, "point_to_plane, or the point_to_point baseline")
       ->check(CLI::IsMember({"point_to_plane", "point_to_point"}))
       ->capture_default_str();
   args->options.add_to(*cmd, PresetOptions::kOdometry);
-  cmd->callback([cmd, args] { run_guarded(args->out, "odometry", [&] { run_odometry(*cmd, *args); }); });
+  cmd->callback([cmd, args] {
+    auto files = args->options.input_files();
+    files.push_back(args->input);
+    files.push_back(args->config);
+    run_guarded(output_request(args->out, "odometry", args->overwrite, files), [&] { run_odometry(*cmd, *args); });
+  });
 }
 
 }  // namespace cleanmap::app

@@ -44,16 +44,6 @@ nlohmann::json kitti_json(const KittiErrors& kitti) {
           {"by_length", lengths}};
 }
 
-void run_guarded(const std::filesystem::path& out, const std::string& command,
-                 const std::function<void()>& body) {
-  try {
-    body();
-  } catch (const Error& e) {
-    if (std::filesystem::is_directory(out)) write_summary(out, {{"command", command}}, false, e.what());
-    throw;
-  }
-}
-
 void write_pose_files(const std::filesystem::path& out, const std::vector<StampedPose>& poses,
                       const std::optional<Eigen::Isometry3d>& kitti_tr) {
   std::vector<Eigen::Isometry3d> lidar, kitti;

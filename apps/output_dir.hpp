@@ -27,11 +27,6 @@ nlohmann::json json_number(double v);
 // KITTI segment errors per length and pooled, as every command reports them.
 nlohmann::json kitti_json(const KittiErrors& kitti);
 
-// Runs a command's body; when it stops on bad input, marks OUT/summary.json incomplete with
-// the message (if OUT exists) before the error reaches main.
-void run_guarded(const std::filesystem::path& out, const std::string& command,
-                 const std::function<void()>& body);
-
 // OUT/poses_kitti.txt (camera-0 frame when a KITTI Tr is known, so it compares with the
 // official ground truth), OUT/poses_tum.txt (real stamps) and OUT/poses.txt + OUT/times.txt
 // (lidar frame: OUT then reads as a sequence).

@@ -4,6 +4,8 @@
 
 #include <cstdio>
 
+#include "apps/interrupt.hpp"
+
 namespace cleanmap::app {
 
 Progress::Progress(std::string label, std::size_t total)
@@ -19,6 +21,8 @@ double Progress::elapsed_s() const {
 
 void Progress::update(std::size_t done) {
   done_ = done;
+  // Every long loop reports here once per scan: the place to stop when asked to.
+  throw_if_interrupted(std::to_string(done) + " of " + std::to_string(total_) + " scans (" + label_ + ")");
   if (!tty_) return;
   const auto now = std::chrono::steady_clock::now();
   if (done < total_ && now - last_print_ < std::chrono::milliseconds(100)) return;

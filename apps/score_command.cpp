@@ -1,24 +1,38 @@
 #include "apps/commands.hpp"
+#include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/pipeline.hpp"
 
 namespace cleanmap::app {
 namespace fs = std::filesystem;
+namespace {
+
+// The log, the preset and the pose and time files given: never written, never under --out.
+template <typename Args>
+std::vector<fs::path> with_files(const Args& a) {
+  auto files = a.options.input_files();
+  files.push_back(a.input);
+  files.push_back(a.config);
+  return files;
+}
+
+}  // namespace
 
 void register_score(CLI::App& app) {
   struct Args {
     fs::path input, out = "cleanmap-score", config;
+    bool overwrite = false;
     PresetOptions options;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("score", "Score every point of a registered sequence as dynamic "
                                           "or static (spatiotemporal normals)");
   cmd->add_option("--input", args->input, "Sequence folder")->required();
-  cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+  add_output_options(*cmd, args->out, args->overwrite, "Output folder");
   cmd->add_option("--config", args->config, "YAML preset (sections 'input', 'scorer')");
   args->options.add_to(*cmd, PresetOptions::kScorer);
   cmd->callback([cmd, args] {
-    run_guarded(args->out, "score", [&] {
+    run_guarded(output_request(args->out, "score", args->overwrite, with_files(*args)), [&] {
       run_pipeline({args->input, args->out, false, false, "score"}, args->options.resolve(*cmd, args->config), {});
     });
   });
@@ -27,6 +41,7 @@ void register_score(CLI::App& app) {
 void register_run(CLI::App& app) {
   struct Args {
     fs::path input, out = "cleanmap-run", config;
+    bool overwrite = false;
     bool use_given_poses = false;
     bool online = false;
     PresetOptions options;
@@ -35,7 +50,7 @@ void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Raw log in, clean static map out: odometry (or given "
                                         "poses), dynamic scoring, OctoMap mapping, exports");
   cmd->add_option("--input", args->input, "Sequence folder")->required();
-  cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
+  add_output_options(*cmd, args->out, args->overwrite, "Output folder");
   cmd->add_option("--config", args->config, "YAML preset (sections input, odometry, scorer, mapping)");
   cmd->add_flag("--use-given-poses", args->use_given_poses,
                 "Take poses from --poses or the sequence's poses.txt instead of running odometry");
@@ -44,7 +59,7 @@ void register_run(CLI::App& app) {
                 "only (default: two passes, the whole log's visibility judges every scan)");
   args->options.add_to(*cmd, PresetOptions::kOdometry | PresetOptions::kScorer | PresetOptions::kMapping);
   cmd->callback([cmd, args] {
-    run_guarded(args->out, "run", [&] {
+    run_guarded(output_request(args->out, "run", args->overwrite, with_files(*args)), [&] {
       const PipelineConfig cfg = args->options.resolve(*cmd, args->config);
       // An explicit --poses file means "use these poses" too.
       const bool given = args->use_given_poses || !cfg.input.poses.empty();

@@ -200,6 +200,9 @@ struct PresetOptions {
     if (with & kMapping) add_options(cmd, cli.mapping, mapping_fields());
   }
 
+  // Files named on the command line that a command reads (never written, never under --out).
+  std::vector<std::filesystem::path> input_files() const { return {cli.input.poses, cli.input.times}; }
+
   PipelineConfig resolve(const CLI::App& cmd, const std::filesystem::path& preset_file) const {
     const auto preset = load_optional_preset(preset_file);
     PipelineConfig c;

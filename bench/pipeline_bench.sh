@@ -19,9 +19,9 @@ shift $(( $# < 4 ? $# : 4 ))
 extra=("$@")
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-"$build/apps/cleanmap" demo --generate-only --scans "$scans" --columns "$columns" --out "$work/demo" > /dev/null 2>&1
+"$build/apps/cleanmap" demo --generate-only --overwrite --scans "$scans" --columns "$columns" --out "$work/demo" > /dev/null 2>&1
 for r in $(seq 1 "$runs"); do
-  /usr/bin/time -v "$build/apps/cleanmap" run --input "$work/demo/sequence" --out "$work/run$r" "${extra[@]}" \
+  /usr/bin/time -v "$build/apps/cleanmap" run --overwrite --input "$work/demo/sequence" --out "$work/run$r" "${extra[@]}" \
     > /dev/null 2> "$work/time$r.txt"
 done
 /usr/bin/python3 - "$work" "$runs" <<'PY'

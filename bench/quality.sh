@@ -39,7 +39,7 @@ sets=(
   "synthetic street|@SYNTH@|--voxel-size 0.1|"
 )
 
-"$cm" demo --generate-only --out "$work/synthetic" > /dev/null 2>&1
+"$cm" demo --generate-only --overwrite --out "$work/synthetic" > /dev/null 2>&1
 
 metric() {  # metric JSON FIELD
   python3 -c "import json,sys; d=json.load(open(sys.argv[1])); v = d[sys.argv[2]]; print('n/a' if v is None else '%.3f' % v)" "$1" "$2"
@@ -53,7 +53,7 @@ for entry in "${sets[@]}"; do
   out="$work/$(echo "$name" | tr -c 'a-zA-Z0-9\n' '_')"
   rm -rf "$out"
   # shellcheck disable=SC2086
-  if ! "$cm" run --input "$input" --out "$out" $run_opts "${extra[@]}" > "$out.log" 2>&1; then
+  if ! "$cm" run --overwrite --input "$input" --out "$out" $run_opts "${extra[@]}" > "$out.log" 2>&1; then
     printf '%-26s run failed: %s\n' "$name" "$(tail -n 1 "$out.log")"
     continue
   fi
@@ -85,7 +85,7 @@ for entry in "${dm_sets[@]}"; do
   rm -rf "$dm" "$dm.run"
   # shellcheck disable=SC2086
   if ! "$convert" --input "$input" --out "$dm" $conv_opts > "$dm.log" 2>&1 ||
-     ! "$cm" run --input "$dm" --out "$dm.run" $run_opts "${extra[@]}" >> "$dm.log" 2>&1; then
+     ! "$cm" run --overwrite --input "$dm" --out "$dm.run" $run_opts "${extra[@]}" >> "$dm.log" 2>&1; then
     printf '%-26s failed: %s\n' "$name" "$(tail -n 1 "$dm.log")"
     continue
   fi
