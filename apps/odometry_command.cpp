@@ -6,6 +6,7 @@
 #include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/progress.hpp"
+#include "apps/run_inputs.hpp"
 #include "apps/settings.hpp"
 #include "io/cloud_file.hpp"
 #include "odometry/lidar_odometry.hpp"
@@ -46,10 +47,12 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   std::vector<StampedPose> stamped;
   std::vector<double> seconds;
   std::size_t degenerate = 0;
+  nlohmann::json empty_scans = nlohmann::json::array();
   double reference_offset = 0.0;
   Progress progress("odometry", seq.size());
   for (std::size_t i = 0; i < seq.size(); ++i) {
     LoadedScan loaded = load_scan(seq, i);
+    if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
     auto step = odom.register_scan(loaded.scan);
     reference_offset = step.reference_offset;
     stamped.push_back({loaded.scan.stamp + step.reference_offset, step.pose});
@@ -69,6 +72,10 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
     progress.update(i + 1);
   }
   progress.finish();
+  if (empty_scans.size() == seq.size()) {
+    fail(args.input, "no valid point in any of its " + std::to_string(seq.size()) +
+                         " scans (empty, or only NaN / infinite coordinates): nothing to register");
+  }
 
   // With --write-scans, OUT is itself a sequence folder that `cleanmap score --input OUT` reads.
   write_pose_files(args.out, stamped, seq.calib_tr);
@@ -76,6 +83,7 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   std::sort(sorted.begin(), sorted.end());
   summary["scans"] = seq.size();
   summary["degenerate_scans"] = degenerate;
+  summary["empty_scans"] = empty_scans;
   summary["pose_reference"] = {{"deskew_reference", cfg.deskew_reference},
                                {"offset_seconds_after_stamp", reference_offset}};
   summary["poses_kitti_frame"] = seq.calib_tr ? "camera-0 (Tr from calib.txt)" : "lidar";

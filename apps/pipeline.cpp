@@ -115,6 +115,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   std::vector<StampedPose> poses;
   MovingConfusion total;
   nlohmann::json per_scan = nlohmann::json::array();
+  nlohmann::json empty_scans = nlohmann::json::array();  // {scan, reason} of scans with no valid point
   std::size_t points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0,
               tracked = 0;
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
@@ -270,6 +271,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
             auto t = Clock::now();
             LoadedScan loaded = load_scan(seq, item->index);
             dropped += loaded.dropped_non_finite;
+            if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
             masked += drop_masked(loaded, mask);
             item->labels = std::move(loaded.labels);
             read_s += since(t);
@@ -365,6 +367,10 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   stage_seconds["odometry"] = odometry_s;
   stage_seconds["scoring"] = scoring_s;
 
+  if (points == 0) {
+    fail(opt.input, "no valid point in any of its " + std::to_string(seq.size()) +
+                        " scans (empty, or only NaN / infinite coordinates): nothing to score or map");
+  }
   auto t = Clock::now();
   // The map files are independent of each other: written side by side, but the large clouds
   // one after another (each write converts a whole cloud for PCL: two at once doubled the peak
@@ -404,6 +410,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   }
   summary["tracked_points"] = tracked;
   summary["non_finite_dropped"] = dropped;
+  summary["empty_scans"] = empty_scans;
   summary["platform_mask"] = {{"masked_points", masked}, {"learnt_cells", mask.cells.size()},
                               {"crop_box", !mask.crop_box.empty()}, {"note", mask.note}};
   summary["seconds"] = seconds;

@@ -1,6 +1,7 @@
 #include "apps/run_inputs.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "io/label_file.hpp"
 
@@ -37,6 +38,14 @@ std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask) {
   }
   loaded.scan = select_points(loaded.scan, keep);
   return masked;
+}
+
+void note_empty(const LoadedScan& loaded, nlohmann::json& empty_scans) {
+  const std::size_t n = loaded.scan.input_size;
+  const std::string reason =
+      n == 0 ? "no points" : "all " + std::to_string(n) + " points have NaN or infinite coordinates";
+  std::fprintf(stderr, "cleanmap: warning: scan %s: %s (scored as empty)\n", loaded.scan.name.c_str(), reason.c_str());
+  empty_scans.push_back({{"scan", loaded.scan.name}, {"reason", reason}});
 }
 
 }  // namespace cleanmap::app

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "io/sequence.hpp"
@@ -21,5 +22,9 @@ std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask);
 // places in the input file).
 std::vector<std::uint32_t> follow_points(const Scan& before, const std::vector<std::uint32_t>& labels,
                                          const Scan& after);
+
+// A scan with no valid point: one warning line on stderr naming it and why (no points in the
+// file, or only NaN / infinite ones), and an entry {scan, reason} for summary.json.
+void note_empty(const LoadedScan& loaded, nlohmann::json& empty_scans);
 
 }  // namespace cleanmap::app

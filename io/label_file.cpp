@@ -8,7 +8,7 @@
 namespace cleanmap {
 
 std::vector<std::uint32_t> read_labels(const std::filesystem::path& file,
-                                       std::size_t expected_points) {
+                                       std::optional<std::size_t> expected_points) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(file, ec);
   if (ec) fail(file, "cannot read file (" + ec.message() + ")");
@@ -16,9 +16,9 @@ std::vector<std::uint32_t> read_labels(const std::filesystem::path& file,
     fail(file, "size " + std::to_string(bytes) + " bytes is not a multiple of 4 (uint32 labels)");
   }
   const std::size_t n = bytes / 4;
-  if (expected_points != 0 && n != expected_points) {
+  if (expected_points && n != *expected_points) {
     fail(file, "has " + std::to_string(n) + " labels but its scan has " +
-                   std::to_string(expected_points) + " points");
+                   std::to_string(*expected_points) + " points");
   }
   std::vector<std::uint32_t> labels(n);
   std::ifstream in(file, std::ios::binary);

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 namespace cleanmap {
@@ -21,9 +22,10 @@ inline bool is_moving_label(std::uint32_t label) {
   return c >= 251 && c <= 259;
 }
 
-// Reads a .label file; `expected_points` (the scan's point count) is checked when non-zero.
+// Reads a .label file; `expected_points` (the scan's point count, 0 included) is checked when
+// given.
 std::vector<std::uint32_t> read_labels(const std::filesystem::path& file,
-                                       std::size_t expected_points = 0);
+                                       std::optional<std::size_t> expected_points = std::nullopt);
 void write_labels(const std::filesystem::path& file, const std::vector<std::uint32_t>& labels);
 
 }  // namespace cleanmap

@@ -42,7 +42,12 @@ std::size_t drop_non_finite(Scan& scan);
 // Scatters a per-point value back to input order; points dropped on reading get `fill`.
 template <typename T>
 std::vector<T> to_input_order(const Scan& scan, const std::vector<T>& values, T fill) {
-  if (scan.input_index.empty()) return values;
+  if (scan.input_index.empty()) {
+    // Nothing dropped (or a scan made in memory); an all-NaN scan keeps no index but still
+    // gets one value per input point.
+    if (scan.size() > 0 || scan.input_size == 0) return values;
+    return std::vector<T>(scan.input_size, fill);
+  }
   std::vector<T> out(scan.input_size, fill);
   for (std::size_t i = 0; i < values.size(); ++i) out[scan.input_index[i]] = values[i];
   return out;
