@@ -1,9 +1,36 @@
 #include "apps/config_fields.hpp"
 
+#include <cstdio>
+
 namespace cleanmap::app {
 
 // Every section any command reads; a preset may carry all of them.
 static const char* const kAllSections[] = {"input", "synthetic", "scorer", "odometry", "mapping"};
+
+std::string format_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string describe(const Range& r) {
+  auto num = [](double v) { return format_number(v); };
+  const bool lo = std::isfinite(r.lo), hi = std::isfinite(r.hi);
+  if (lo && hi) return std::string("in ") + (r.lo_open ? "(" : "[") + num(r.lo) + ", " + num(r.hi) + "]";
+  if (lo) return (r.lo_open ? "> " : ">= ") + num(r.lo);
+  if (hi) return "<= " + num(r.hi);
+  return "finite";
+}
+
+CLI::Validator number_in(const Range& r) {
+  return CLI::Validator(
+      [r](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        return check_value(v, r);
+      },
+      "NUMBER " + describe(r));
+}
 
 YAML::Node load_preset(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file)) fail(file, "no such config file");

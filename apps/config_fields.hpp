@@ -6,30 +6,77 @@
 #include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <limits>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
+#include <type_traits>
+#include <vector>
 
 #include "io/error.hpp"
 
 namespace cleanmap::app {
+
+// The values a numeric setting may take (every floating-point one must be finite as well).
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;  // lo itself excluded ("must be positive")
+};
+inline constexpr Range kAny{};
+inline constexpr Range kPositive{0.0, std::numeric_limits<double>::infinity(), true};
+inline constexpr Range kNonNegative{0.0, std::numeric_limits<double>::infinity(), false};
+inline constexpr Range kShare{0.0, 1.0, false};
+inline constexpr Range kAtLeastOne{1.0, std::numeric_limits<double>::infinity(), false};
 
 template <typename Get>
 struct Field {
   const char* name;  // YAML key; the option is --name with '_' as '-'
   const char* help;
   Get get;           // config& -> member&
+  Range range;
 };
 
 template <typename Get>
-Field<Get> field(const char* name, const char* help, Get get) {
-  return {name, help, get};
+Field<Get> field(const char* name, const char* help, Get get, Range range = kAny) {
+  return {name, help, get, range};
 }
 
 // Field of a config struct by member path, e.g. CLEANMAP_FIELD("beams", lidar.beams, "...").
 #define CLEANMAP_FIELD(key, path, help) \
   ::cleanmap::app::field(key, help, [](auto& c) -> auto& { return c.path; })
+// The same with the values it may take, e.g. CLEANMAP_FIELD_IN("radius", radius, kPositive, "...").
+#define CLEANMAP_FIELD_IN(key, path, range, help) \
+  ::cleanmap::app::field(key, help, [](auto& c) -> auto& { return c.path; }, range)
+
+std::string describe(const Range& r);
+std::string format_number(double v);  // %g: 1, 0.5, 1e-09
+
+// A command-line check for a plain numeric option: a finite number in `r` (CLI11's own
+// PositiveNumber lets NaN through).
+CLI::Validator number_in(const Range& r);
+
+// Empty when `value` may be set; else what is wrong ("must be a finite number", "must be > 0").
+template <typename T>
+std::string check_value(const T& value, const Range& r) {
+  if constexpr (std::is_same_v<T, bool>) {
+    return {};
+  } else if constexpr (std::is_arithmetic_v<T>) {
+    const double v = static_cast<double>(value);
+    if (!std::isfinite(v)) return "must be a finite number";
+    if (v < r.lo || (r.lo_open && v == r.lo) || v > r.hi) return "must be " + describe(r) + ", not " + format_number(v);
+    return {};
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    for (double v : value) {
+      if (!std::isfinite(v)) return "must hold finite numbers";
+    }
+    return {};
+  } else {
+    return {};
+  }
+}
 
 inline std::string option_name(const char* key) {
   std::string s = std::string("--") + key;
@@ -61,6 +108,8 @@ void apply_yaml(const YAML::Node& map, Config& config, const Fields& fields,
                fail(file, section + "." + key + ": cannot read '" + YAML::Dump(kv.second) +
                               "' as the expected type");
              }
+             const std::string problem = check_value(f.get(config), f.range);
+             if (!problem.empty()) fail(file, section + "." + key + ": " + problem);
            }())
                            : void()),
            ...);
@@ -70,12 +119,21 @@ void apply_yaml(const YAML::Node& map, Config& config, const Fields& fields,
   }
 }
 
-// Copies every field whose option was given on the command line from `cli` into `config`.
+// A command-line value that passed its field's check (else an error naming the option).
+template <typename F, typename T>
+const T& checked(const F& f, const T& value) {
+  const std::string problem = check_value(value, f.range);
+  if (!problem.empty()) throw Error(option_name(f.name) + ": " + problem);
+  return value;
+}
+
+// Copies every field whose option was given on the command line from `cli` into `config`
+// (each checked against its range).
 template <typename Config, typename Fields>
 void override_from_cli(const CLI::App& app, Config& config, Config& cli, const Fields& fields) {
   std::apply(
       [&](const auto&... f) {
-        ((app.get_option(option_name(f.name))->count() > 0 ? void(f.get(config) = f.get(cli))
+        ((app.get_option(option_name(f.name))->count() > 0 ? void(f.get(config) = checked(f, f.get(cli)))
                                                            : void()),
          ...);
       },

@@ -19,15 +19,16 @@ namespace {
 
 auto synthetic_fields() {
   return std::make_tuple(
-      CLEANMAP_FIELD("scans", scans, "Number of scans to simulate"),
-      CLEANMAP_FIELD("seed", seed, "Random seed (scene layout and range noise)"),
-      CLEANMAP_FIELD("beams", lidar.beams, "Lidar beams (rows)"),
-      CLEANMAP_FIELD("columns", lidar.columns, "Firings per revolution (columns)"),
-      CLEANMAP_FIELD("rate_hz", lidar.rate_hz, "Revolutions per second"),
-      CLEANMAP_FIELD("fov_up_deg", lidar.fov_up_deg, "Upper edge of the vertical field of view"),
-      CLEANMAP_FIELD("fov_down_deg", lidar.fov_down_deg, "Lower edge of the vertical field of view"),
-      CLEANMAP_FIELD("max_range", lidar.max_range, "Maximum range, m"),
-      CLEANMAP_FIELD("range_noise", lidar.range_noise, "Range noise (std. dev.), m"));
+      // Upper bounds keep a typo from allocating what no sensor produces (1024 beams x 65536).
+      CLEANMAP_FIELD_IN("scans", scans, (Range{1, 100000}), "Number of scans to simulate"),
+      CLEANMAP_FIELD_IN("seed", seed, kNonNegative, "Random seed (scene layout and range noise)"),
+      CLEANMAP_FIELD_IN("beams", lidar.beams, (Range{1, 1024}), "Lidar beams (rows)"),
+      CLEANMAP_FIELD_IN("columns", lidar.columns, (Range{1, 65536}), "Firings per revolution (columns)"),
+      CLEANMAP_FIELD_IN("rate_hz", lidar.rate_hz, (Range{0.1, 1000}), "Revolutions per second"),
+      CLEANMAP_FIELD_IN("fov_up_deg", lidar.fov_up_deg, (Range{-90, 90}), "Upper edge of the vertical field of view"),
+      CLEANMAP_FIELD_IN("fov_down_deg", lidar.fov_down_deg, (Range{-90, 90}), "Lower edge of the vertical field of view"),
+      CLEANMAP_FIELD_IN("max_range", lidar.max_range, (Range{0.1, 10000}), "Maximum range, m"),
+      CLEANMAP_FIELD_IN("range_noise", lidar.range_noise, (Range{0, 10}), "Range noise (std. dev.), m"));
 }
 
 struct DemoArgs {

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "apps/commands.hpp"
+#include "apps/config_fields.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/settings.hpp"
 #include "evaluation/box_labels.hpp"
@@ -40,6 +41,8 @@ void eval_trajectory(const TrajectoryArgs& a) {
   const auto ref = read_poses(a.ref, fmt);
   const auto est = read_poses(a.est, fmt);
   std::vector<Eigen::Isometry3d> r, e;
+  if (ref.size() < 2) fail(a.ref, "nothing to measure: " + std::to_string(ref.size()) + " pose(s), errors need two or more");
+  if (est.size() < 2) fail(a.est, "nothing to measure: " + std::to_string(est.size()) + " pose(s), errors need two or more");
   const bool stamped = !std::isnan(ref.front().stamp) && !std::isnan(est.front().stamp);
   if (stamped) {
     associate(ref, est, a.max_dt, r, e);
@@ -51,6 +54,10 @@ void eval_trajectory(const TrajectoryArgs& a) {
     }
     for (const auto& p : ref) r.push_back(p.pose);
     for (const auto& p : est) e.push_back(p.pose);
+  }
+  if (static_cast<std::size_t>(a.delta) >= r.size()) {
+    fail(a.est, "nothing to measure: --delta " + std::to_string(a.delta) + " frames is not shorter than the " +
+                    std::to_string(r.size()) + " paired poses");
   }
   const Alignment alignment = a.align == "none" ? Alignment::kNone : a.align == "sim3" ? Alignment::kSim3 : Alignment::kSE3;
   const auto kitti = kitti_errors(r, e);
@@ -144,7 +151,15 @@ void eval_map(const MapArgs& a) {
   if (!gt.has_intensity()) fail(a.gt, "needs an intensity field (0 = static, 1 = dynamic)");
   const Scan out = read_cloud(a.output);
   std::vector<std::uint8_t> dynamic(gt.size());
-  for (std::size_t i = 0; i < gt.size(); ++i) dynamic[i] = gt.intensity[static_cast<Eigen::Index>(i)] > 0.5f;
+  for (std::size_t i = 0; i < gt.size(); ++i) {
+    const float v = gt.intensity[static_cast<Eigen::Index>(i)];
+    if (v != 0.0f && v != 1.0f) {
+      fail(a.gt, "point " + std::to_string(i) + " has intensity " + format_number(v) +
+                     ": ground truth must be 0 (static) or 1 (dynamic)");
+    }
+    dynamic[i] = v == 1.0f;
+  }
+  if (gt.size() == 0) fail(a.gt, "has no points: nothing to measure");
   const auto s = score_map(gt.points, dynamic, out.points, a.distance);
   std::printf("DynamicMap benchmark: SA %.3f  DA %.3f  AA %.3f  HA %.3f  (%zu static, %zu dynamic ground-truth points)\n",
               s.sa, s.da, s.aa, s.ha, s.static_points, s.dynamic_points);
@@ -165,8 +180,8 @@ void register_eval(CLI::App& app) {
   tc->add_option("--ref", t->ref, "Reference poses (KITTI or TUM)")->required();
   tc->add_option("--format", t->format, "auto, kitti or tum")->capture_default_str();
   tc->add_option("--align", t->align, "APE alignment")->check(CLI::IsMember({"none", "se3", "sim3"}))->capture_default_str();
-  tc->add_option("--delta", t->delta, "RPE step in frames")->capture_default_str();
-  tc->add_option("--max-dt", t->max_dt, "TUM association tolerance, s")->capture_default_str();
+  tc->add_option("--delta", t->delta, "RPE step in frames")->check(number_in(kAtLeastOne))->capture_default_str();
+  tc->add_option("--max-dt", t->max_dt, "TUM association tolerance, s")->check(number_in(kPositive))->capture_default_str();
   tc->add_option("--json", t->json, "Also write the numbers to this JSON file");
   tc->callback([t] { eval_trajectory(*t); });
 
@@ -175,9 +190,12 @@ void register_eval(CLI::App& app) {
   dc->add_option("--pred", d->pred, "Folder of predicted .label files (or a run/score output)")->required();
   dc->add_option("--gt", d->gt, "Sequence folder with labels/ (or boxes/ and --poses)")->required();
   dc->add_option("--poses", d->poses, "Poses for box ground truth (e.g. a run's poses.txt)");
-  dc->add_option("--speed", d->speed, "Boxes faster than this (m/s, world frame) are moving")->capture_default_str();
-  dc->add_option("--box-margin", d->box_margin, "Boxes grown by this on every side, m")->capture_default_str();
-  dc->add_option("--max-range", d->max_range, "Only points within this range, m (0 = all)")->capture_default_str();
+  dc->add_option("--speed", d->speed, "Boxes faster than this (m/s, world frame) are moving")
+      ->check(number_in(kNonNegative))->capture_default_str();
+  dc->add_option("--box-margin", d->box_margin, "Boxes grown by this on every side, m")
+      ->check(number_in(kNonNegative))->capture_default_str();
+  dc->add_option("--max-range", d->max_range, "Only points within this range, m (0 = all)")
+      ->check(number_in(kNonNegative))->capture_default_str();
   dc->add_option("--json", d->json, "Also write the numbers to this JSON file");
   dc->callback([d] { eval_dynamic(*d); });
 
@@ -185,7 +203,8 @@ void register_eval(CLI::App& app) {
   auto* mc = eval->add_subcommand("map", "DynamicMap benchmark scores (SA, DA, AA, HA) of a cleaned cloud");
   mc->add_option("--gt", m->gt, "gt_cloud.pcd (intensity 0 static, 1 dynamic)")->required();
   mc->add_option("--output", m->output, "The method's cloud of kept points")->required();
-  mc->add_option("--distance", m->distance, "Kept when an output point is this close, m")->capture_default_str();
+  mc->add_option("--distance", m->distance, "Kept when an output point is this close, m")
+      ->check(number_in(kPositive))->capture_default_str();
   mc->add_option("--json", m->json, "Also write the numbers to this JSON file");
   mc->callback([m] { eval_map(*m); });
 }

@@ -5,6 +5,8 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
+#include <fstream>
+
 
 #include "io/error.hpp"
 #include "io/pcd_file.hpp"
@@ -17,6 +19,33 @@ namespace {
 std::string lower(std::string s) {
   for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
+}
+
+// PCL refuses to write a cloud without points; an empty map is still a valid result (a log in
+// which everything moved), so its header is written here: the same fields, 0 points.
+void write_empty_cloud(const std::filesystem::path& file, const std::vector<std::pair<std::string, const float*>>& fields,
+                       const std::string& ext, const Eigen::Vector4f& origin, const Eigen::Quaternionf& q) {
+  std::ofstream out(file, std::ios::binary);
+  if (!out) fail(file, "cannot create file");
+  if (ext == ".pcd") {
+    out << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS";
+    for (const auto& f : fields) out << ' ' << f.first;
+    out << "\nSIZE";
+    for (std::size_t k = 0; k < fields.size(); ++k) out << " 4";
+    out << "\nTYPE";
+    for (std::size_t k = 0; k < fields.size(); ++k) out << " F";
+    out << "\nCOUNT";
+    for (std::size_t k = 0; k < fields.size(); ++k) out << " 1";
+    out << "\nWIDTH 0\nHEIGHT 1\nVIEWPOINT " << origin[0] << ' ' << origin[1] << ' ' << origin[2] << ' ' << q.w() << ' '
+        << q.x() << ' ' << q.y() << ' ' << q.z() << "\nPOINTS 0\nDATA binary\n";
+  } else if (ext == ".ply") {
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex 0\n";
+    for (const auto& f : fields) out << "property float " << f.first << '\n';
+    out << "end_header\n";
+  } else {
+    fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
+  }
+  if (!out) fail(file, "write failed");
 }
 
 }  // namespace
@@ -91,6 +120,10 @@ void write_cloud(const std::filesystem::path& file, const Scan& scan,
   }
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   const auto ext = lower(file.extension().string());
+  if (scan.size() == 0) {
+    write_empty_cloud(file, fields, ext, origin, orientation);
+    return;
+  }
   int rc = -1;
   if (ext == ".pcd") {
     pcl::PCDWriter writer;

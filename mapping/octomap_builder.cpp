@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "io/error.hpp"
@@ -48,6 +49,14 @@ void validate(const MapConfig& c) {
     bad("need 0 < clamp_min < clamp_max < 1");
   }
   if (c.insert_voxel < 0) bad("insert_voxel must be >= 0");
+  // OctoMap's keys are 16-bit: a tree reaches 32768 leaves from its origin, and rays beyond that
+  // fail one error line per point (a 1e-9 m resolution printed 19k of them).
+  if (c.resolution * 32768.0 < c.max_range) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "resolution %g m is too fine for map_max_range %g m (OctoMap's 16-bit keys reach "
+                  "32768 leaves from the origin)", c.resolution, c.max_range);
+    bad(msg);
+  }
 }
 
 OctoMapBuilder::OctoMapBuilder(const MapConfig& config)

@@ -1,0 +1,86 @@
+// Numeric settings and evaluation inputs out of range (issue 14, defects 10 and 11): one error
+// naming the setting (and the preset file), before any work.
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "io/cloud_file.hpp"
+#include "tests/test_support.hpp"
+
+namespace cleanmap {
+namespace {
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string output;
+};
+
+Result run(const std::string& args) {
+  Result r;
+  r.code = test::run_cleanmap(args, &r.output);
+  return r;
+}
+
+std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --generate-only --scans 3 --beams 16 --columns 256 --out " + (dir / "demo").string()).code, 0);
+  const std::string log = (dir / "demo" / "sequence").string();
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"--voxel-size nan", "--voxel-size: must be a finite number"},
+      {"--radius -1", "--radius: must be > 0, not -1"},
+      {"--resolution 1e-9", "--resolution: must be in [0.001, 100], not 1e-09"},
+      {"--resolution 0.001 --map-max-range 100", "too fine for map_max_range 100 m"},
+      {"--window-half 0", "--window-half: must be >= 1, not 0"},
+      {"--prob-hit 2", "--prob-hit: must be in (0.5, 1], not 2"}};
+  for (const auto& [opt, message] : cases) {
+    const auto r = run("run --input " + log + " --out " + (dir / "out").string() + " --overwrite " + opt);
+    EXPECT_EQ(r.code, 1) << opt;
+    EXPECT_NE(r.output.find(message), std::string::npos) << opt << ": " << r.output;
+    EXPECT_LE(lines(r.output), 2u) << opt << ": " << r.output;  // was 19k OctoMap lines for 1e-9
+    const auto s = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+    EXPECT_FALSE(s["complete"].get<bool>());
+  }
+  std::ofstream(dir / "p.yaml") << "scorer:\n  radius: .nan\n";
+  auto r = run("score --input " + log + " --out " + (dir / "s").string() + " --config " + (dir / "p.yaml").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("p.yaml: scorer.radius: must be a finite number"), std::string::npos) << r.output;
+  // A typo that would allocate what no sensor produces (1e5 beams: 35 GB of scans before).
+  r = run("demo --beams 100000 --out " + (dir / "big").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("--beams: must be in [1, 1024], not 100000"), std::string::npos) << r.output;
+}
+
+TEST(SettingsCheck, EvaluationsRefuseWhatTheyCannotMeasure) {
+  test::TempDir dir;
+  std::ofstream(dir / "one.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
+  std::ofstream(dir / "two.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n";
+  auto r = run("eval trajectory --est " + (dir / "one.txt").string() + " --ref " + (dir / "one.txt").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("one.txt: nothing to measure: 1 pose(s)"), std::string::npos) << r.output;
+  r = run("eval trajectory --est " + (dir / "two.txt").string() + " --ref " + (dir / "two.txt").string() + " --delta 2");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("--delta 2 frames is not shorter than the 2 paired poses"), std::string::npos) << r.output;
+  EXPECT_NE(run("eval trajectory --est " + (dir / "two.txt").string() + " --ref " + (dir / "two.txt").string() +
+                " --delta 0").code, 0);
+  Scan gt;
+  gt.points = Eigen::Matrix3Xf::Random(3, 4);
+  gt.intensity = Eigen::VectorXf::Zero(4);
+  write_cloud(dir / "out.pcd", gt);
+  gt.intensity[2] = 0.5f;
+  write_cloud(dir / "gt.pcd", gt);
+  const std::string clouds = " --gt " + (dir / "gt.pcd").string() + " --output " + (dir / "out.pcd").string();
+  r = run("eval map" + clouds);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("gt.pcd: point 2 has intensity 0.5: ground truth must be 0 (static) or 1 (dynamic)"),
+            std::string::npos) << r.output;
+  for (const char* d : {"-1", "nan", "0"}) {
+    r = run("eval map" + clouds + " --distance " + d);
+    EXPECT_NE(r.code, 0) << d;
+    EXPECT_NE(r.output.find("--distance"), std::string::npos) << d << ": " << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace cleanmap
