@@ -116,10 +116,17 @@ def main(out_dir):
         m = summary["moving"]
         counts += [["moving IoU", m["iou"]], ["moving precision", m["precision"]], ["moving recall", m["recall"]]]
     tables += "<h2>Run</h2>" + table(counts, ["", "value"])
+    banner = ""
+    if d.get("complete") is False:
+        problems = "".join(f"<li>{html.escape(p)}</li>" for p in d.get("problems", []))
+        banner = (f'<div class="failed"><b>This run did not complete.</b> {html.escape(d.get("error", ""))}'
+                  f'<br>The numbers and plots below show only what it wrote before it stopped.'
+                  f'{"<ul>" + problems + "</ul>" if problems else ""}</div>')
     page = f"""<!DOCTYPE html><html><head><meta charset="utf-8"><title>cleanmap report</title>
 <style>body{{font-family:sans-serif;margin:2em;max-width:1200px}}table{{border-collapse:collapse;margin:1em 0}}
-td,th{{border:1px solid #bbb;padding:3px 8px;text-align:right}}img{{max-width:100%}}</style></head>
-<body><h1>cleanmap report</h1><p>{html.escape(str(out.resolve()))}</p>{tables}{images}</body></html>"""
+td,th{{border:1px solid #bbb;padding:3px 8px;text-align:right}}img{{max-width:100%}}
+.failed{{background:#fdd;border:2px solid #c00;padding:1em;margin:1em 0}}</style></head>
+<body><h1>cleanmap report</h1>{banner}<p>{html.escape(str(out.resolve()))}</p>{tables}{images}</body></html>"""
     (out / "report.html").write_text(page)
 
 

@@ -1,7 +1,8 @@
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 
 #include "apps/commands.hpp"
 #include "apps/output_dir.hpp"
@@ -26,17 +27,60 @@ nlohmann::json top_view(const fs::path& file, std::size_t limit) {
   return {x, y};
 }
 
+void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& summary, nlohmann::json& d);
+
+nlohmann::json read_summary(const fs::path& out) {
+  const fs::path file = out / "summary.json";
+  if (!fs::exists(file)) fail(out, "has no summary.json: not a cleanmap output folder");
+  nlohmann::json summary;
+  try {
+    summary = nlohmann::json::parse(std::ifstream(file));
+  } catch (const nlohmann::json::exception& e) {
+    fail(file, std::string("is not valid JSON (") + e.what() + ")");
+  }
+  if (!summary.is_object() || !summary.contains("command")) fail(file, "is not a cleanmap summary (no \"command\")");
+  return summary;
+}
+
 void make_report(const fs::path& out, fs::path ref, const std::string& python, const fs::path& script) {
-  if (!fs::exists(out / "summary.json")) fail(out, "has no summary.json: not a cleanmap output folder");
-  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  const auto summary = read_summary(out);
   make_dirs(out / "report");
   nlohmann::json d;
   d["summary"] = summary;
   d["per_scan"] = summary.value("per_scan", nlohmann::json::array());
+  // A run that stopped says so at the top of the page; what it left is drawn where readable.
+  const bool complete = summary.value("complete", false);
+  d["complete"] = complete;
+  d["error"] = summary.value("error", complete ? "" : "no reason recorded (still running, or killed)");
+  d["problems"] = nlohmann::json::array();
+  auto guarded = [&](const char* what, const std::function<void()>& part) {
+    try {
+      part();
+    } catch (const Error& e) {
+      if (complete) throw;
+      d["problems"].push_back(std::string(what) + ": " + e.what());
+    }
+  };
+  if (!complete) std::fprintf(stderr, "cleanmap: warning: %s describes an incomplete run: %s\n", out.c_str(),
+                              d["error"].get<std::string>().c_str());
   const bool is_map = fs::exists(out / "map_static.pcd");
-  d["static_xy"] = top_view(out / (is_map ? "map_static.pcd" : "static.pcd"), 100000);
-  d["dynamic_xy"] = top_view(out / (is_map ? "map_dynamic.pcd" : "dynamic.pcd"), 50000);
+  guarded("static cloud", [&] { d["static_xy"] = top_view(out / (is_map ? "map_static.pcd" : "static.pcd"), 100000); });
+  guarded("dynamic cloud", [&] { d["dynamic_xy"] = top_view(out / (is_map ? "map_dynamic.pcd" : "dynamic.pcd"), 50000); });
+  guarded("trajectory", [&] { add_trajectory(out, ref, summary, d); });
+  {
+    std::ofstream f(out / "report" / "data.json");
+    if (!f) fail(out / "report" / "data.json", "cannot create file");
+    f << d.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+  if (!fs::exists(script)) fail(script, "report script not found (give --script)");
+  const std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "'";
+  if (std::system(cmd.c_str()) != 0) {
+    fail(script, "failed (it needs Debian's python3-matplotlib: apt-get install python3-matplotlib)");
+  }
+  std::printf("report: %s (plots in %s)\n", (out / "report.html").c_str(), (out / "report").c_str());
+}
 
+void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& summary, nlohmann::json& d) {
   if (fs::exists(out / "poses_kitti.txt")) {
     std::vector<Eigen::Isometry3d> est;
     for (const auto& p : read_poses(out / "poses_kitti.txt")) est.push_back(p.pose);
@@ -78,17 +122,6 @@ void make_report(const fs::path& out, fs::path ref, const std::string& python, c
       d["estimate"] = est_xy;
     }
   }
-  {
-    std::ofstream f(out / "report" / "data.json");
-    if (!f) fail(out / "report" / "data.json", "cannot create file");
-    f << d.dump();
-  }
-  if (!fs::exists(script)) fail(script, "report script not found (give --script)");
-  const std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "'";
-  if (std::system(cmd.c_str()) != 0) {
-    fail(script, "failed (it needs Debian's python3-matplotlib: apt-get install python3-matplotlib)");
-  }
-  std::printf("report: %s (plots in %s)\n", (out / "report.html").c_str(), (out / "report").c_str());
 }
 
 }  // namespace

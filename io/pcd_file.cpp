@@ -41,7 +41,8 @@ std::vector<std::uint64_t> counts_of(const std::filesystem::path& file, const st
   for (std::size_t k = 1; k < words.size(); ++k) {
     const auto v = parse_count(words[k], max);
     if (!v && parse_count(words[k], UINT64_MAX)) {
-      fail(file, key + " " + printable(words[k]) + " is more than a file of " + std::to_string(max) + " bytes can hold");
+      fail(file, key + " " + printable(words[k]) + " is more than a file of " + std::to_string(max) +
+                     " bytes can hold (truncated, or a lying header)");
     }
     if (!v) fail(file, key + ": '" + printable(words[k]) + "' is not a count");
     out.push_back(*v);

@@ -143,6 +143,31 @@ TEST(CliReport, WritesASelfContainedPageWithPlotsAndTables) {
   }
 }
 
+TEST(CliReport, AFailedRunSaysSoAtTheTopAndACorruptSummaryIsNamed) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --scans 4 --beams 16 --columns 256 --out " + dir.path.string()).code, 0);
+  // The run's summary as a failure leaves it, and its static map cut short.
+  auto s = nlohmann::json::parse(std::ifstream(dir / "run" / "summary.json"));
+  s["complete"] = false;
+  s["error"] = "interrupted by SIGINT (Ctrl-C) after 3 of 4 scans (run)";
+  std::ofstream(dir / "run" / "summary.json") << s.dump();
+  std::filesystem::resize_file(dir / "run" / "map_static.pcd", 300);
+  auto r = run("report " + (dir / "run").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("describes an incomplete run"), std::string::npos) << r.output;
+  std::ifstream in(dir / "run" / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto banner = page.find("This run did not complete.");
+  ASSERT_NE(banner, std::string::npos);
+  EXPECT_LT(banner, page.find("<h2>"));  // above every table
+  EXPECT_NE(page.find("after 3 of 4 scans"), std::string::npos);
+  EXPECT_NE(page.find("map_static.pcd: WIDTH"), std::string::npos);  // named among the problems
+  std::ofstream(dir / "run" / "summary.json") << "{\"command\": \"run\", \"compl";
+  r = run("report " + (dir / "run").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("summary.json: is not valid JSON"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace cleanmap
 
