@@ -224,9 +224,12 @@ void read_ascii(const std::filesystem::path& file, std::string_view body, const 
 
 CloudRecords read_pcd(const std::filesystem::path& file) {
   const auto bytes = read_file_bytes(file);
-  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  return parse_pcd(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file);
+}
+
+CloudRecords parse_pcd(std::string_view text, const std::filesystem::path& file) {
   const Header h = parse_header(file, text);
-  CloudRecords r = layout(file, h, bytes.size());
+  CloudRecords r = layout(file, h, text.size());
   const std::string_view body = text.substr(h.body);
   if (h.data == "binary") {
     read_binary(file, body, r);

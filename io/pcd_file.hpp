@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string_view>
 
 #include "io/raw_cloud.hpp"
 
@@ -12,5 +13,8 @@ namespace cleanmap {
 // ascii values must be numbers that fit their field's type, rows must be complete, and the
 // VIEWPOINT finite. Errors name the file and, for the body, the line.
 CloudRecords read_pcd(const std::filesystem::path& file);
+
+// The same from bytes in memory (`name` only labels errors): what the fuzz target calls.
+CloudRecords parse_pcd(std::string_view bytes, const std::filesystem::path& name);
 
 }  // namespace cleanmap

@@ -208,7 +208,10 @@ CloudRecords read_vertices(Cursor& c, const Element& e) {
 
 CloudRecords read_ply(const std::filesystem::path& file) {
   const auto bytes = read_file_bytes(file);
-  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  return parse_ply(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file);
+}
+
+CloudRecords parse_ply(std::string_view text, const std::filesystem::path& file) {
   const Header h = parse_header(file, text);
   Cursor c{file, text.substr(h.body), h.format};
   c.line_no = h.lines;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string_view>
 
 #include "io/raw_cloud.hpp"
 
@@ -11,5 +12,8 @@ namespace cleanmap {
 // are skipped (lists included); a `camera` element as PCL writes it gives the viewpoint. Every
 // count is checked against the file's length before it is allocated or looped over.
 CloudRecords read_ply(const std::filesystem::path& file);
+
+// The same from bytes in memory (`name` only labels errors): what the fuzz target calls.
+CloudRecords parse_ply(std::string_view bytes, const std::filesystem::path& name);
 
 }  // namespace cleanmap

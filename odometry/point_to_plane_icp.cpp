@@ -103,12 +103,16 @@ bool settled(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double eps)
 // of the adaptive threshold). Returns the residuals used and their RMS after the solve.
 std::pair<int, double> solve_matches(const std::vector<PlaneMatch>& matches, double gate,
                                      int iterations, Eigen::Quaterniond& q, Eigen::Vector3d& t) {
+  // The loss lives here, not in the problem: a problem that got no residual block never took
+  // ownership of it, and it leaked (found by the LeakSanitizer build).
+  ceres::CauchyLoss cauchy(gate / 3.0);
   ceres::Problem::Options po;
   po.enable_fast_removal = false;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
   problem.AddParameterBlock(q.coeffs().data(), 4, new ceres::EigenQuaternionManifold);
   problem.AddParameterBlock(t.data(), 3);
-  auto* loss = new ceres::CauchyLoss(gate / 3.0);  // owned once by the problem
+  ceres::LossFunction* loss = &cauchy;
   int used = 0;
   for (const auto& m : matches) {
     if (m.weight <= 0) continue;

@@ -13,5 +13,6 @@ $SUDO apt-get install -y -qq \
   libgtest-dev libgmock-dev libbenchmark-dev \
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev \
   librcpputils-dev librcutils-dev libament-index-cpp-dev \
+  clang libclang-rt-14-dev \
   > /dev/null
 echo "install-deps: all packages present"

@@ -78,5 +78,19 @@ TEST(BadScans, ALogWithoutAnyValidPointIsAnErrorThatSaysSo) {
   }
 }
 
+TEST(BadScans, ANonFiniteViewpointInADynamicMapFolderIsNamed) {
+  test::TempDir dir;
+  fs::create_directories(dir / "dm" / "pcd");
+  for (const char* vp : {"0 0 0 1 0 0 0", "nan 0 0 1 0 0 0"}) {
+    static int k = 0;
+    std::ofstream f(dir / "dm" / "pcd" / ("00000" + std::to_string(k++) + ".pcd"));
+    f << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\nVIEWPOINT " << vp
+      << "\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  }
+  std::string out;
+  EXPECT_EQ(test::run_cleanmap("run --input " + (dir / "dm").string() + " --out " + (dir / "out").string(), &out), 1) << out;
+  EXPECT_NE(out.find("000001.pcd: VIEWPOINT must be 7 finite numbers"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace cleanmap

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (tests/fuzz, clang, ASan + UBSan) and runs each for SECONDS.
+# Usage: bash scripts/fuzz.sh [SECONDS per target, default 60] [TARGET ...]
+#   JOBS=2 runs two targets at a time. Corpora grow in build-fuzz/corpus/<target> (seeded from
+#   ../shared/data and small hand-written files); crashes, leaks and timeouts are kept in
+#   build-fuzz/findings/ and make the script exit non-zero. CI runs it for a few seconds each.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-60}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_pcd fuzz_ply fuzz_kitti_bin fuzz_label fuzz_pose_file fuzz_calib
+                                     fuzz_point_cloud2 fuzz_preset)
+build=build-fuzz
+data="${CLEANMAP_SHARED_DATA:-../shared/data}"
+CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCLEANMAP_FUZZ=ON \
+  -DCLEANMAP_WITH_ROSBAG=OFF -DCLEANMAP_BUILD_BENCH=OFF > /dev/null
+cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
+
+# Seeds: the first 200 points of real scans (a whole header, a body the size it claims), the
+# first lines of real pose, time, calib and label files, the presets, and hand-written edge cases.
+seed() { mkdir -p "$build/corpus/$1"; cat > "$build/corpus/$1/$2"; }
+first_points() {  # PCD with binary data cut to its first N points, header rewritten to match
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import sys
+raw = open(sys.argv[1], "rb").read()
+end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
+head = raw[:end].decode().splitlines()
+sizes = [int(x) for x in next(l for l in head if l.startswith("SIZE")).split()[1:]]
+n = int(sys.argv[2])
+out = []
+for l in head:
+    k = l.split(" ")[0]
+    out.append(f"{k} {n}" if k in ("WIDTH", "POINTS") else l)
+sys.stdout.buffer.write(("\n".join(out) + "\n").encode() + raw[end:end + n * sum(sizes)])
+PY
+}
+if [ -d "$data" ]; then
+  for s in balm_campus/scans/000008.pcd pandar64_street/scans/000000.pcd; do
+    [ -f "$data/$s" ] && first_points "$data/$s" 200 | seed fuzz_pcd "$(echo "$s" | tr / _)"
+  done
+  [ -f "$data/kitti00/velodyne/000000.bin" ] && head -c 3200 "$data/kitti00/velodyne/000000.bin" | seed fuzz_kitti_bin kitti00.bin
+  [ -f "$data/kitti00/labels/000000.label" ] && head -c 800 "$data/kitti00/labels/000000.label" | seed fuzz_label kitti00.label
+  for f in kitti00/poses.txt balm_campus/poses.txt kitti00/times.txt; do
+    [ -f "$data/$f" ] && head -n 5 "$data/$f" | seed fuzz_pose_file "$(echo "$f" | tr / _)"
+  done
+  [ -f "$data/kitti00/calib.txt" ] && seed fuzz_calib calib.txt < "$data/kitti00/calib.txt"
+fi
+printf 'VERSION 0.7\nFIELDS x y z intensity t\nSIZE 4 4 4 2 8\nTYPE F F F U F\nCOUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 1 2 3 1 0 0 0\nPOINTS 2\nDATA ascii\n1 2 3 4 0.05\nnan 5 6 7 1e9\n' | seed fuzz_pcd ascii.pcd
+printf 'ply\nformat ascii 1.0\ncomment x\nelement vertex 2\nproperty float x\nproperty float y\nproperty double z\nproperty uchar intensity\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n1 2 3 4\n5 6 7 8\n3 0 1 1\n' | seed fuzz_ply ascii.ply
+printf 'ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement camera 1\nproperty float view_px\nproperty float view_py\nproperty float view_pz\nend_header\n\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40\0\0\0\0\0\0\0\0\0\0\0\0' | seed fuzz_ply binary.ply
+printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n' | seed fuzz_pose_file kitti.txt
+printf '# timestamp tx ty tz qx qy qz qw\n0.0 0 0 0 0 0 0 1\n0.1 1 0 0 0 0 0.0998 0.995\n' | seed fuzz_pose_file tum.txt
+printf '\3\0\0\0\0\0\7\1\4\0\0\0\7\2\x08\0\0\0\7\x0c\0\0\0\2\0\0\0\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40' | seed fuzz_point_cloud2 xyz.bin
+for p in config/*.yaml; do seed fuzz_preset "$(basename "$p")" < "$p"; done
+
+mkdir -p "$build/findings"
+status=0
+run_one() {
+  local t=$1 log="$build/findings/$1.log"
+  # -rss_limit_mb / -malloc_limit_mb: a reader must never allocate what its input cannot justify.
+  if "$build/tests/fuzz/$t" "$build/corpus/$t" -max_total_time="$seconds" -max_len=65536 -timeout=10 \
+       -rss_limit_mb=2048 -malloc_limit_mb=1024 -artifact_prefix="$build/findings/$t-" \
+       -dict=tests/fuzz/keywords.dict -print_final_stats=1 > "$log" 2>&1; then
+    printf '%-18s clean   %8s runs  %6s exec/s  %s\n' "$t" "$(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$')" \
+      "$(grep -m1 -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$')" "$(grep -c '' "$build/corpus/$t"/* 2>/dev/null | wc -l) corpus files"
+  else
+    printf '%-18s FINDING (see %s)\n' "$t" "$log"
+    grep -m3 -E 'ERROR|SUMMARY|==[0-9]+==' "$log" || true
+    return 1
+  fi
+}
+jobs="${JOBS:-1}"
+pids=()
+for t in "${targets[@]}"; do
+  run_one "$t" &
+  pids+=($!)
+  if [ ${#pids[@]} -ge "$jobs" ]; then
+    wait "${pids[0]}" || status=1
+    pids=("${pids[@]:1}")
+  fi
+done
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+exit $status
