@@ -18,18 +18,28 @@ Scan read_kitti_bin(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, "cannot open file");
   const auto n = static_cast<Eigen::Index>(bytes / 16);
+  Scan scan;
+  scan.name = file.stem().string();
+  if (n == 0) {
+    // An empty scan; Eigen's row views of a 4x0 matrix offset a null pointer (UBSan, fuzz_kitti_bin).
+    scan.points.resize(3, 0);
+    return scan;
+  }
   Eigen::Matrix4Xf raw(4, n);
   in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(bytes));
   if (in.gcount() != static_cast<std::streamsize>(bytes)) fail(file, "short read");
-  Scan scan;
   scan.points = raw.topRows<3>();
   scan.intensity = raw.row(3).transpose();
   scan.input_size = static_cast<std::size_t>(n);
-  scan.name = file.stem().string();
   return scan;
 }
 
 void write_kitti_bin(const std::filesystem::path& file, const Scan& scan) {
+  if (scan.size() == 0) {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);  // no row views of an empty matrix
+    if (!out) fail(file, "cannot create file");
+    return;
+  }
   Eigen::Matrix4Xf raw(4, scan.points.cols());
   raw.topRows<3>() = scan.points;
   if (scan.has_intensity()) {

@@ -40,5 +40,18 @@ TEST(KittiBin, MissingFileIsAnError) {
   test::expect_error([&] { read_kitti_bin(dir / "nope.bin"); }, {"nope.bin", "cannot read"});
 }
 
+TEST(KittiBin, AnEmptyScanWritesAndReadsBack) {
+  // A 0-byte file: Eigen's row views of a 4x0 matrix offset a null pointer (found by fuzz_kitti_bin
+  // under UBSan; the sanitizer build of this test fails on the old reader).
+  test::TempDir dir;
+  Scan empty;
+  empty.points.resize(3, 0);
+  write_kitti_bin(dir / "000000.bin", empty);
+  EXPECT_EQ(std::filesystem::file_size(dir / "000000.bin"), 0u);
+  const Scan r = read_kitti_bin(dir / "000000.bin");
+  EXPECT_EQ(r.size(), 0u);
+  EXPECT_EQ(r.name, "000000");
+}
+
 }  // namespace
 }  // namespace cleanmap
