@@ -124,11 +124,26 @@ void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& sum
   }
 }
 
+// The plotting script: beside an installed binary (PREFIX/bin/cleanmap ->
+// PREFIX/share/cleanmap/report.py), else in the source tree the build came from.
+fs::path default_script() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    fs::path prefix = exe.parent_path();
+    const fs::path bindir = CLEANMAP_INSTALL_BINDIR;
+    for ([[maybe_unused]] const auto& part : bindir) prefix = prefix.parent_path();
+    const fs::path installed = prefix / CLEANMAP_INSTALL_SCRIPT;
+    if (fs::exists(installed, ec)) return installed;
+  }
+  return CLEANMAP_REPORT_SCRIPT;
+}
+
 }  // namespace
 
 void register_report(CLI::App& app) {
   struct Args {
-    fs::path out, ref, script = CLEANMAP_REPORT_SCRIPT;
+    fs::path out, ref, script = default_script();
     std::string python = "/usr/bin/python3";  // Debian's, which has python3-matplotlib
   };
   auto args = std::make_shared<Args>();
