@@ -21,6 +21,7 @@
 #include "apps/run_inputs.hpp"
 #include "apps/run_summary.hpp"
 #include "apps/output_dir.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "dynamics/ground_segmentation.hpp"
 #include "dynamics/object_tracker.hpp"
@@ -125,6 +126,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
 
   std::mutex odom_mutex;  // the pipeline's first stage registers, its last feeds dynamics back
   std::vector<Clock::time_point> finished_at;  // when each input scan that released output was written
+  std::size_t scans_done = 0;                  // scans through every stage of this pass
   double mapping_s = 0, write_s = 0;
   // Pipeline stage 3: the occupancy opinion, then the static points into the map.
   auto map_scan = [&](ScoredScan& r) {
@@ -295,7 +297,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
               poses.push_back({loaded.scan.stamp, seq.poses[item->index]});
             }
             odometry_s += since(t);
-            progress.update(item->index + 1);
+            throw_if_interrupted("reading scan " + std::to_string(item->index + 1) + " of " + std::to_string(seq.size()));
             return item;
           }) &
           tbb::make_filter<std::shared_ptr<Item>, std::shared_ptr<Item>>(
@@ -350,6 +352,9 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
                   } else {
                     write_scan(r, labels);
                   }
+                  // Counts scans through the last stage: the first stage ran a window ahead
+                  // ("30/30 scans, ETA 0 s" while 10 were still being scored).
+                  progress.update(++scans_done);
                 }
                 if (!item->scored.empty() && !item->flush) finished_at.push_back(Clock::now());
               }));

@@ -36,10 +36,9 @@ void Progress::update(std::size_t done) {
 }
 
 void Progress::finish() {
-  const double t = elapsed_s();
+  // Time only: the command's last line gives the one rate that counts, over the whole run.
   if (tty_) std::fprintf(stderr, "\r\033[K");
-  std::fprintf(stderr, "%s: %zu scans in %.1f s (%.1f scans/s)\n", label_.c_str(), done_, t,
-               t > 0 ? static_cast<double>(done_) / t : 0.0);
+  std::fprintf(stderr, "%s: %zu scans in %.1f s\n", label_.c_str(), done_, elapsed_s());
 }
 
 }  // namespace cleanmap::app

@@ -35,7 +35,8 @@ def trajectory_plot(d, out):
     ax.set_ylabel("y [m]")
     ax.set_title("Trajectory, top view")
     ax.axis("equal")
-    ax.legend()
+    if ref or est:  # matplotlib warns on stderr about a legend without entries
+        ax.legend()
     return save(fig, out / "trajectory.png")
 
 

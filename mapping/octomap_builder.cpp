@@ -1,12 +1,15 @@
 #include "mapping/octomap_builder.hpp"
 
+#include <fcntl.h>
 #include <octomap/OcTree.h>
 #include <tbb/parallel_for.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <mutex>
 
 #include "io/error.hpp"
 #include "geometry/voxel_downsample.hpp"
@@ -35,6 +38,37 @@ class DirectUpdateTree : public octomap::OcTree {
     }
     updateNodeRecurs(root, created_root, key, 0, occupied ? prob_hit_log : prob_miss_log, true);
   }
+};
+
+// OctoMap's writers print "Writing N nodes to output stream... done." on stderr (its
+// OCTOMAP_DEBUG, compiled into Debian's library), which broke the progress lines: stderr is
+// pointed at /dev/null while it writes. Nothing else prints then (the passes have finished).
+class QuietStderr {
+ public:
+  QuietStderr() : lock_(mutex()) {
+    std::fflush(stderr);
+    saved_ = dup(STDERR_FILENO);
+    const int null = open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null >= 0) dup2(null, STDERR_FILENO);
+    if (null >= 0) close(null);
+  }
+  ~QuietStderr() {
+    std::fflush(stderr);
+    if (saved_ >= 0) {
+      dup2(saved_, STDERR_FILENO);
+      close(saved_);
+    }
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+  int saved_ = -1;
 };
 
 }  // namespace
@@ -136,13 +170,23 @@ void OctoMapBuilder::write_binary(const std::filesystem::path& file) {
   octomap::OcTree binary(*tree_);
   binary.toMaxLikelihood();
   binary.prune();
-  if (!binary.writeBinaryConst(file.string())) fail(file, "cannot write OctoMap");
+  bool ok = false;
+  {
+    QuietStderr quiet;
+    ok = binary.writeBinaryConst(file.string());
+  }
+  if (!ok) fail(file, "cannot write OctoMap");
 }
 
 void OctoMapBuilder::write_full(const std::filesystem::path& file) {
   tree_->updateInnerOccupancy();
   tree_->prune();  // lossless: merges only children with equal log-odds (the clamped ones)
-  if (!tree_->write(file.string())) fail(file, "cannot write OctoMap");
+  bool ok = false;
+  {
+    QuietStderr quiet;
+    ok = tree_->write(file.string());
+  }
+  if (!ok) fail(file, "cannot write OctoMap");
 }
 
 void OctoMapBuilder::write_occupancy_grid(const std::filesystem::path& pgm, double z_min,

@@ -43,6 +43,13 @@ TEST(Cli, DemoWritesASequenceAndACompleteSummary) {
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
   EXPECT_TRUE(summary["complete"].get<bool>());
   EXPECT_EQ(summary["synthetic"]["beams"].get<int>(), 16);
+  // Nothing printed by the libraries (OctoMap's "Writing N nodes ... done." broke the progress
+  // lines), and one rate: the run's own, on its last line.
+  EXPECT_EQ(r.output.find("done."), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Writing"), std::string::npos) << r.output;
+  std::size_t rates = 0;
+  for (auto p = r.output.find("scans/s"); p != std::string::npos; p = r.output.find("scans/s", p + 1)) ++rates;
+  EXPECT_EQ(rates, 1u) << r.output;
 }
 
 TEST(Cli, ConfigValuesApplyAndCommandLineOverrides) {
