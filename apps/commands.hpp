@@ -12,5 +12,6 @@ void register_run(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_compare(CLI::App& app);
 void register_report(CLI::App& app);
+void register_config(CLI::App& app);
 
 }  // namespace cleanmap::app

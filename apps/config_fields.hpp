@@ -84,10 +84,21 @@ inline std::string option_name(const char* key) {
   return s;
 }
 
+// One option per field, its built-in default shown in --help; a bool is a flag with a --no-
+// form (--free-space / --no-free-space; --free-space=false works too).
 template <typename Config, typename Fields>
 void add_options(CLI::App& app, Config& target, const Fields& fields) {
-  std::apply([&](const auto&... f) { (app.add_option(option_name(f.name), f.get(target), f.help), ...); },
-             fields);
+  auto one = [&](const auto& f) {
+    auto& value = f.get(target);
+    if constexpr (std::is_same_v<std::remove_reference_t<decltype(value)>, bool>) {
+      const std::string name = option_name(f.name);
+      app.add_flag(name + ",!--no-" + name.substr(2), value,
+                   std::string(f.help) + (value ? " [default: on]" : " [default: off]"));
+    } else {
+      app.add_option(option_name(f.name), value, f.help)->capture_default_str();
+    }
+  };
+  std::apply([&](const auto&... f) { (one(f), ...); }, fields);
 }
 
 // Sets `config` from a YAML map; any key not in the table is an error naming file and key.

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <functional>
 #include <memory>
 
 #include "apps/commands.hpp"
@@ -13,7 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "cleanmap 0.1.0");
   int threads = 0;
-  app.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
   cleanmap::app::register_demo(app);
   cleanmap::app::register_score(app);
   cleanmap::app::register_odometry(app);
@@ -21,6 +22,15 @@ int main(int argc, char** argv) {
   cleanmap::app::register_eval(app);
   cleanmap::app::register_compare(app);
   cleanmap::app::register_report(app);
+  cleanmap::app::register_config(app);
+  // Options of the top level (--threads) work after a subcommand too: cleanmap run --threads 2.
+  std::function<void(CLI::App*)> fall = [&](CLI::App* a) {
+    for (auto* sub : a->get_subcommands([](CLI::App*) { return true; })) {
+      sub->fallthrough();
+      fall(sub);
+    }
+  };
+  fall(&app);
   std::unique_ptr<tbb::global_control> limit;
   app.parse_complete_callback([&] {
     if (threads > 0) {

@@ -5,6 +5,7 @@
 #include "apps/commands.hpp"
 #include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
+#include "apps/preset_yaml.hpp"
 #include "apps/progress.hpp"
 #include "apps/run_inputs.hpp"
 #include "apps/settings.hpp"
@@ -38,6 +39,7 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
                          {"method", args.method},
                          {"odometry", to_json(cfg, odometry_fields())}};
   write_summary(args.out, summary, false);
+  write_preset(args.out, settings, PresetOptions::kOdometry);
 
   LidarOdometry odom(cfg);
   odom.method = args.method;

@@ -22,6 +22,7 @@
 #include "apps/run_summary.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/interrupt.hpp"
+#include "apps/preset_yaml.hpp"
 #include "apps/progress.hpp"
 #include "dynamics/ground_segmentation.hpp"
 #include "dynamics/object_tracker.hpp"
@@ -82,6 +83,8 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   if (opt.mapping) summary["mapping"] = to_json(cfg.mapping, mapping_fields());
   summary["libraries"] = library_versions();
   write_summary(opt.out, summary, false);
+  write_preset(opt.out, cfg, PresetOptions::kScorer | (use_odometry ? PresetOptions::kOdometry : 0) |
+                                 (opt.mapping ? PresetOptions::kMapping : 0));
   const PlatformMask mask = platform_mask(seq, cfg.input.platform);
   if (!mask.note.empty()) std::fprintf(stderr, "%s: platform mask: none learnt: %s\n", opt.command.c_str(), mask.note.c_str());
   std::size_t masked = 0;

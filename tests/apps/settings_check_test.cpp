@@ -82,5 +82,32 @@ TEST(SettingsCheck, EvaluationsRefuseWhatTheyCannotMeasure) {
   }
 }
 
+TEST(SettingsCheck, OptionsWorkAfterTheSubcommandBooleansAreFlagsAndPresetsRoundTrip) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --generate-only --scans 3 --beams 16 --columns 256 --out " + (dir / "demo").string()).code, 0);
+  const std::string log = (dir / "demo" / "sequence").string();
+  // --threads after the subcommand, a --no- flag, a flag with =value, a number.
+  auto r = run("run --input " + log + " --out " + (dir / "out").string() +
+               " --threads 1 --no-free-space --object-completion=false --radius 0.5 --use-given-poses");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  EXPECT_FALSE(s["mapping"]["free_space"].get<bool>());
+  EXPECT_FALSE(s["scorer"]["object_completion"].get<bool>());
+  EXPECT_DOUBLE_EQ(s["scorer"]["radius"].get<double>(), 0.5);
+  // The run's own preset gives the same settings back.
+  ASSERT_TRUE(fs::exists(dir / "out" / "config.yaml"));
+  r = run("config --config " + (dir / "out" / "config.yaml").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("radius: 0.5\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("free_space: false\n"), std::string::npos) << r.output;
+  std::ofstream(dir / "p.yaml") << r.output;
+  EXPECT_EQ(run("config --config " + (dir / "p.yaml").string()).output, r.output);
+  // --help shows defaults.
+  r = run("run --help");
+  EXPECT_NE(r.output.find("--radius FLOAT=0.3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--free-space,--no-free-space"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[default: on]"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace cleanmap
