@@ -95,7 +95,7 @@ TEST(OfflineRun, DynamicPointsLeaveTheOdometryMapWhileOdometryRuns) {
   std::string out;
   for (const char* exclude : {"false", "true"}) {
     ASSERT_EQ(run_cleanmap("run --input " + (dir / "d" / "sequence").string() + " --out " +
-                      (dir / exclude).string() + " --voxel-size 0.1 --exclude-dynamic " + exclude, &out), 0) << out;
+                      (dir / exclude).string() + " --voxel-size 0.1 --exclude-dynamic=" + exclude, &out), 0) << out;
   }
   EXPECT_NE(text_of(dir / "false" / "poses_kitti.txt"), text_of(dir / "true" / "poses_kitti.txt"));
 }
