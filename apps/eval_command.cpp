@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -45,8 +46,16 @@ void eval_trajectory(const TrajectoryArgs& a) {
   if (est.size() < 2) fail(a.est, "nothing to measure: " + std::to_string(est.size()) + " pose(s), errors need two or more");
   const bool stamped = !std::isnan(ref.front().stamp) && !std::isnan(est.front().stamp);
   if (stamped) {
-    associate(ref, est, a.max_dt, r, e);
-    if (r.size() < 2) fail(a.est, "fewer than two poses have a reference within " + std::to_string(a.max_dt) + " s");
+    // The reference is interpolated between neighbours up to 2.5 of its own median spacing
+    // apart (a dropped sample, not a hole in the log).
+    std::vector<double> gaps;
+    for (std::size_t k = 1; k < ref.size(); ++k) gaps.push_back(ref[k].stamp - ref[k - 1].stamp);
+    std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+    interpolate_reference(ref, est, 2.5 * gaps[gaps.size() / 2], a.max_dt, r, e);
+    if (r.size() < 2) {
+      fail(a.est, "fewer than two poses lie within the reference's time span (stamps " + format_number(est.front().stamp) +
+                      "... against " + format_number(ref.front().stamp) + "..." + format_number(ref.back().stamp) + ")");
+    }
   } else {
     if (ref.size() != est.size()) {
       fail(a.est, "has " + std::to_string(est.size()) + " poses, the reference " +
@@ -60,10 +69,16 @@ void eval_trajectory(const TrajectoryArgs& a) {
                     std::to_string(r.size()) + " paired poses");
   }
   const Alignment alignment = a.align == "none" ? Alignment::kNone : a.align == "sim3" ? Alignment::kSim3 : Alignment::kSE3;
+  const double heading = heading_difference_deg(r, e);
+  if (heading > 45.0) {
+    std::fprintf(stderr, "cleanmap: warning: the two trajectories head %.0f deg apart in their first frames: are the "
+                 "files in different frames? (KITTI ground truth is in the camera-0 frame: compare poses_kitti.txt "
+                 "or poses_tum.txt, not poses.txt)\n", heading);
+  }
   const auto kitti = kitti_errors(r, e);
   const auto ape = absolute_pose_error(r, e, alignment);
   const auto rpe = relative_pose_error(r, e, a.delta);
-  std::printf("poses paired: %zu%s\n", r.size(), stamped ? " (by time stamp)" : " (by line)");
+  std::printf("poses paired: %zu%s\n", r.size(), stamped ? " (by time stamp, reference interpolated)" : " (by line)");
   std::printf("KITTI segment errors (devkit): %zu segments\n", kitti.segments.size());
   std::printf("  length [m]  t_err [%%]  r_err [deg/100m]\n");
   for (std::size_t k = 0; k < kitti.lengths.size(); ++k) {
@@ -181,7 +196,7 @@ void register_eval(CLI::App& app) {
   tc->add_option("--format", t->format, "auto, kitti or tum")->capture_default_str();
   tc->add_option("--align", t->align, "APE alignment")->check(CLI::IsMember({"none", "se3", "sim3"}))->capture_default_str();
   tc->add_option("--delta", t->delta, "RPE step in frames")->check(number_in(kAtLeastOne))->capture_default_str();
-  tc->add_option("--max-dt", t->max_dt, "TUM association tolerance, s")->check(number_in(kPositive))->capture_default_str();
+  tc->add_option("--max-dt", t->max_dt, "TUM: how far beyond the reference's ends an estimate may lie, s")->check(number_in(kPositive))->capture_default_str();
   tc->add_option("--json", t->json, "Also write the numbers to this JSON file");
   tc->callback([t] { eval_trajectory(*t); });
 

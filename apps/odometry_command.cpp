@@ -88,7 +88,7 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   summary["empty_scans"] = empty_scans;
   summary["pose_reference"] = {{"deskew_reference", cfg.deskew_reference},
                                {"offset_seconds_after_stamp", reference_offset}};
-  summary["poses_kitti_frame"] = seq.calib_tr ? "camera-0 (Tr from calib.txt)" : "lidar";
+  summary["pose_files"] = pose_files_json(seq.calib_tr, reference_offset);
   summary["seconds_per_scan"] = {{"median", sorted.empty() ? 0.0 : sorted[sorted.size() / 2]},
                                  {"p99", sorted.empty() ? 0.0 : sorted[(sorted.size() * 99) / 100]}};
   write_summary(args.out, summary, true);

@@ -1,6 +1,7 @@
 #include "apps/output_dir.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 
@@ -47,18 +48,32 @@ nlohmann::json kitti_json(const KittiErrors& kitti) {
 void write_pose_files(const std::filesystem::path& out, const std::vector<StampedPose>& poses,
                       const std::optional<Eigen::Isometry3d>& kitti_tr) {
   std::vector<Eigen::Isometry3d> lidar, kitti;
+  std::vector<StampedPose> kitti_stamped;
   for (const auto& p : poses) {
     lidar.push_back(p.pose);
     // KITTI ground truth is in the camera-0 frame: P_cam = Tr P_lidar Tr^-1.
     kitti.push_back(kitti_tr ? Eigen::Isometry3d(*kitti_tr * p.pose * kitti_tr->inverse()) : p.pose);
+    kitti_stamped.push_back({p.stamp, kitti.back()});
   }
+  // The two evaluation files share one frame (the ground truth's); poses.txt stays in the
+  // lidar frame, so that OUT reads as a sequence.
   write_kitti_poses(out / "poses_kitti.txt", kitti);
-  write_tum_poses(out / "poses_tum.txt", poses);
+  write_tum_poses(out / "poses_tum.txt", kitti_stamped);
   write_kitti_poses(out / "poses.txt", lidar);
   std::ofstream times(out / "times.txt");
   if (!times) fail(out / "times.txt", "cannot create file");
   times << std::fixed << std::setprecision(6);
   for (const auto& p : poses) times << p.stamp << '\n';
+}
+
+nlohmann::json pose_files_json(const std::optional<Eigen::Isometry3d>& kitti_tr, double reference_offset) {
+  const std::string eval_frame = kitti_tr ? "camera-0 (KITTI, Tr from calib.txt)" : "lidar";
+  char when[160];
+  std::snprintf(when, sizeof when, "each pose at its scan's stamp + %.4f s (the deskew reference)", reference_offset);
+  return {{"poses_kitti.txt", eval_frame + ", one pose per scan, no stamps"},
+          {"poses_tum.txt", eval_frame + ", stamped: " + when},
+          {"poses.txt", "lidar, one pose per scan (with times.txt, OUT reads as a sequence)"},
+          {"times.txt", "scan stamps + the deskew reference offset, s"}};
 }
 
 }  // namespace cleanmap::app

@@ -27,10 +27,13 @@ nlohmann::json json_number(double v);
 // KITTI segment errors per length and pooled, as every command reports them.
 nlohmann::json kitti_json(const KittiErrors& kitti);
 
-// OUT/poses_kitti.txt (camera-0 frame when a KITTI Tr is known, so it compares with the
-// official ground truth), OUT/poses_tum.txt (real stamps) and OUT/poses.txt + OUT/times.txt
-// (lidar frame: OUT then reads as a sequence).
+// OUT/poses_kitti.txt and OUT/poses_tum.txt (real stamps) in the ground truth's frame (camera-0
+// when a KITTI Tr is known, else lidar), OUT/poses.txt + OUT/times.txt in the lidar frame (OUT
+// then reads as a sequence).
 void write_pose_files(const std::filesystem::path& out, const std::vector<StampedPose>& poses,
                       const std::optional<Eigen::Isometry3d>& kitti_tr);
+
+// What summary.json says of those files: frame and time of each.
+nlohmann::json pose_files_json(const std::optional<Eigen::Isometry3d>& kitti_tr, double reference_offset);
 
 }  // namespace cleanmap::app

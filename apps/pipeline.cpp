@@ -400,7 +400,10 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
         }
       });
   if (opt.mapping) summary["octomap_leaves"] = octo->leaf_count();
-  if (use_odometry) write_pose_files(opt.out, poses, seq.calib_tr);
+  if (use_odometry) {
+    write_pose_files(opt.out, poses, seq.calib_tr);
+    summary["pose_files"] = pose_files_json(seq.calib_tr, poses.empty() ? 0.0 : poses.front().stamp - seq.times.front());
+  }
   stage_seconds["write"] += since(t);
 
   const double seconds = progress.elapsed_s();

@@ -140,4 +140,41 @@ void associate(const std::vector<StampedPose>& ref, const std::vector<StampedPos
   }
 }
 
+void interpolate_reference(const std::vector<StampedPose>& ref, const std::vector<StampedPose>& est, double max_gap,
+                           double max_difference, std::vector<Eigen::Isometry3d>& ref_out,
+                           std::vector<Eigen::Isometry3d>& est_out) {
+  ref_out.clear();
+  est_out.clear();
+  if (ref.empty()) return;
+  std::size_t j = 0;
+  for (const auto& e : est) {
+    while (j + 1 < ref.size() && ref[j + 1].stamp <= e.stamp) ++j;
+    if (e.stamp < ref.front().stamp || e.stamp >= ref.back().stamp) {
+      const auto& end = e.stamp < ref.front().stamp ? ref.front() : ref.back();
+      if (std::abs(end.stamp - e.stamp) > max_difference) continue;
+      ref_out.push_back(end.pose);
+    } else {
+      const auto& lo = ref[j];
+      const auto& hi = ref[j + 1];
+      if (hi.stamp - lo.stamp > max_gap) continue;
+      const double f = hi.stamp > lo.stamp ? (e.stamp - lo.stamp) / (hi.stamp - lo.stamp) : 0.0;
+      ref_out.push_back(interpolate_pose(lo.pose, hi.pose, f));
+    }
+    est_out.push_back(e.pose);
+  }
+}
+
+double heading_difference_deg(const std::vector<Eigen::Isometry3d>& ref, const std::vector<Eigen::Isometry3d>& est,
+                              double distance) {
+  const std::size_t n = std::min(ref.size(), est.size());
+  for (std::size_t k = 1; k < n; ++k) {
+    const Eigen::Vector3d r = ref[0].inverse() * ref[k].translation();
+    if (r.norm() < distance) continue;
+    const Eigen::Vector3d e = est[0].inverse() * est[k].translation();
+    if (e.norm() < 0.5 * distance) return std::nan("");
+    return std::acos(std::clamp(r.normalized().dot(e.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+  }
+  return std::nan("");
+}
+
 }  // namespace cleanmap

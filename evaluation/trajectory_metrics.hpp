@@ -62,4 +62,18 @@ void associate(const std::vector<StampedPose>& reference, const std::vector<Stam
                double max_difference, std::vector<Eigen::Isometry3d>& ref_out,
                std::vector<Eigen::Isometry3d>& est_out);
 
+// Pairs each estimated pose with the reference interpolated at its stamp, between the two
+// reference poses around it when they are at most `max_gap` seconds apart (an estimate stamped
+// mid-sweep, 0.05 s after a reference at the scan stamps, pairs; none is moved to a stamp).
+// Estimates outside the reference's span pair with its end pose within `max_difference`.
+void interpolate_reference(const std::vector<StampedPose>& reference, const std::vector<StampedPose>& estimate,
+                           double max_gap, double max_difference, std::vector<Eigen::Isometry3d>& ref_out,
+                           std::vector<Eigen::Isometry3d>& est_out);
+
+// Angle (degrees) between the directions two trajectories move in, each in its own first frame,
+// over the first `distance` metres the reference travels; NaN when either barely moves. Near
+// 90 deg: the files are in different frames (KITTI: camera-0 against lidar).
+double heading_difference_deg(const std::vector<Eigen::Isometry3d>& reference,
+                              const std::vector<Eigen::Isometry3d>& estimate, double distance = 2.0);
+
 }  // namespace cleanmap

@@ -133,6 +133,37 @@ TEST(CliCompare, RunsOdometryWithAndWithoutRemovalAndReportsBoth) {
 namespace cleanmap {
 namespace {
 
+TEST(CliEval, DemoTumPosesEvaluateAgainstTheirGroundTruthAndFramesAreStated) {
+  // The run's TUM stamps are mid-sweep (0.05 s after the ground truth's): they failed to
+  // associate before; the reference is now interpolated at them.
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --scans 8 --beams 32 --columns 512 --out " + dir.path.string()).code, 0);
+  const auto r = run("eval trajectory --est " + (dir / "run" / "poses_tum.txt").string() + " --ref " +
+                     (dir / "sequence" / "poses_tum.txt").string() + " --json " + (dir / "t.json").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto t = nlohmann::json::parse(std::ifstream(dir / "t.json"));
+  EXPECT_EQ(t["paired"].get<int>(), 7);  // the last lies 0.05 s beyond the ground truth's end
+  EXPECT_LT(t["rpe"]["translation"]["rmse"].get<double>(), 0.05);
+  EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  const auto s = nlohmann::json::parse(std::ifstream(dir / "run" / "summary.json"));
+  EXPECT_NE(s["pose_files"]["poses_tum.txt"].get<std::string>().find("lidar"), std::string::npos);
+  EXPECT_NE(s["pose_files"]["poses.txt"].get<std::string>().find("lidar"), std::string::npos);
+}
+
+TEST(CliEval, AFrameMismatchIsWarnedAbout) {
+  test::TempDir dir;
+  std::ofstream cam(dir / "cam.txt"), lidar(dir / "lidar.txt");
+  for (int k = 0; k < 10; ++k) {
+    cam << "1 0 0 0 0 1 0 0 0 0 1 " << 0.7 * k << "\n";
+    lidar << "1 0 0 " << 0.7 * k << " 0 1 0 0 0 0 1 0\n";
+  }
+  cam.close();
+  lidar.close();
+  const auto r = run("eval trajectory --est " + (dir / "lidar.txt").string() + " --ref " + (dir / "cam.txt").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the two trajectories head 90 deg apart"), std::string::npos) << r.output;
+}
+
 TEST(CliReport, WritesASelfContainedPageWithPlotsAndTables) {
   test::TempDir dir;
   ASSERT_EQ(run("demo --scans 6 --beams 32 --columns 512 --out " + dir.path.string()).code, 0);

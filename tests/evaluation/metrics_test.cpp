@@ -95,6 +95,41 @@ TEST(TrajectoryErrors, AssociationPairsNearestStampsOnce) {
   EXPECT_EQ(e.size(), 5u);
 }
 
+TEST(TrajectoryErrors, ReferenceIsInterpolatedAtMidSweepStamps) {
+  // A reference at the scan stamps (0, 0.1, ...) moving 1 m/s along x; estimates stamped at
+  // mid-sweep (+0.05 s), where the sensor was 5 cm further: each pairs with the reference there.
+  std::vector<StampedPose> ref, est;
+  for (int k = 0; k < 5; ++k) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translation().x() = 0.1 * k;
+    ref.push_back({0.1 * k, p});
+    p.translation().x() += 0.05;
+    est.push_back({0.1 * k + 0.05, p});
+  }
+  est.push_back({0.47, est.back().pose});  // beyond the reference by 0.07 s: left out
+  std::vector<Eigen::Isometry3d> r, e;
+  interpolate_reference(ref, est, 0.25, 0.02, r, e);
+  ASSERT_EQ(r.size(), 4u);  // 0.45 lies beyond the last reference too (0.4), by 0.05 > 0.02
+  for (std::size_t k = 0; k < r.size(); ++k) EXPECT_NEAR((r[k].translation() - e[k].translation()).norm(), 0.0, 1e-12);
+  associate(ref, est, 0.02, r, e);
+  EXPECT_EQ(r.size(), 0u);  // nearest-stamp association finds none within 0.02 s
+}
+
+TEST(TrajectoryErrors, HeadingDifferenceTellsCameraFromLidarFrames) {
+  // The same drive as KITTI's camera frame (forward = +z) and a lidar frame (forward = +x).
+  std::vector<Eigen::Isometry3d> camera, lidar;
+  for (int k = 0; k < 10; ++k) {
+    Eigen::Isometry3d c = Eigen::Isometry3d::Identity(), l = Eigen::Isometry3d::Identity();
+    c.translation().z() = 0.7 * k;
+    l.translation().x() = 0.7 * k;
+    camera.push_back(c);
+    lidar.push_back(l);
+  }
+  EXPECT_NEAR(heading_difference_deg(camera, lidar), 90.0, 1e-9);
+  EXPECT_NEAR(heading_difference_deg(lidar, lidar), 0.0, 1e-6);
+  EXPECT_TRUE(std::isnan(heading_difference_deg(std::vector<Eigen::Isometry3d>(3, Eigen::Isometry3d::Identity()), lidar)));
+}
+
 TEST(MovingMetrics, IouPrecisionRecall) {
   MovingConfusion c;
   for (int i = 0; i < 6; ++i) count(c, true, true);
