@@ -133,7 +133,7 @@ struct MappingSettings {
   ObjectRule free_space_objects = kFreeSpaceRule;  // when a cluster is dynamic by free space
   VisibilityConfig visibility;    // offline runs: the log-wide map of cells seen through
   bool occupancy_grid = false;    // 2D grid (PGM + YAML, ROS map_server)
-  double grid_z_min = 0.3;        // heights (world z) that count for the grid, m
+  double grid_z_min = 0.3;        // heights above the local ground that count for the grid, m
   double grid_z_max = 2.0;
 };
 
@@ -159,8 +159,8 @@ inline auto mapping_fields() {
       CLEANMAP_FIELD_IN("visibility_margin", visibility.margin, kNonNegative, "Offline: rays stop this short of their hit, m"),
       CLEANMAP_FIELD_IN("visibility_max_range", visibility.max_range, kPositive, "Offline: longer rays are not cast, m"),
       CLEANMAP_FIELD("occupancy_grid", occupancy_grid, "Write a 2D occupancy grid (PGM + YAML)"),
-      CLEANMAP_FIELD_IN("grid_z_min", grid_z_min, kAny, "Lowest height in the grid, m"),
-      CLEANMAP_FIELD_IN("grid_z_max", grid_z_max, kAny, "Highest height in the grid, m"));
+      CLEANMAP_FIELD_IN("grid_z_min", grid_z_min, kAny, "Lowest height above the local ground in the 2D grid, m"),
+      CLEANMAP_FIELD_IN("grid_z_max", grid_z_max, kAny, "Highest height above the local ground in the 2D grid, m"));
 }
 
 // Defaults <- preset section <- options given on the command line.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <mutex>
 
 #include "io/error.hpp"
@@ -189,6 +190,51 @@ void OctoMapBuilder::write_full(const std::filesystem::path& file) {
   if (!ok) fail(file, "cannot write OctoMap");
 }
 
+namespace {
+
+// Lowest occupied height per grid column, then the lowest within kGroundReach of each column:
+// a car's or a wall's cells see the road beside them (their own lowest cell is their bottom).
+// Columns with nothing within reach take the map's lowest ground.
+std::vector<double> local_ground(const octomap::OcTree& tree, double x0, double y0, double res, int w, int h) {
+  constexpr double kGroundReach = 2.0;  // m: half a car's width, a wall's footing to the road
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> low(static_cast<std::size_t>(w) * h, inf);
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    if (!tree.isNodeOccupied(*it)) continue;
+    const double half = it.getSize() / 2, bottom = it.getZ() - half;
+    for (double x = it.getX() - half + res / 2; x < it.getX() + half; x += res) {
+      for (double y = it.getY() - half + res / 2; y < it.getY() + half; y += res) {
+        const int cx = static_cast<int>((x - x0) / res), cy = static_cast<int>((y - y0) / res);
+        if (cx < 0 || cy < 0 || cx >= w || cy >= h) continue;
+        double& v = low[static_cast<std::size_t>(cy) * w + cx];
+        v = std::min(v, bottom);
+      }
+    }
+  }
+  // Separable running minimum over +-r cells: rows, then columns.
+  const int r = static_cast<int>(std::ceil(kGroundReach / res));
+  std::vector<double> rows(low.size(), inf), out(low.size(), inf);
+  for (int cy = 0; cy < h; ++cy) {
+    for (int cx = 0; cx < w; ++cx) {
+      double m = inf;
+      for (int k = std::max(0, cx - r); k <= std::min(w - 1, cx + r); ++k) m = std::min(m, low[static_cast<std::size_t>(cy) * w + k]);
+      rows[static_cast<std::size_t>(cy) * w + cx] = m;
+    }
+  }
+  double lowest = inf;
+  for (double v : low) lowest = std::min(lowest, v);
+  for (int cy = 0; cy < h; ++cy) {
+    for (int cx = 0; cx < w; ++cx) {
+      double m = inf;
+      for (int k = std::max(0, cy - r); k <= std::min(h - 1, cy + r); ++k) m = std::min(m, rows[static_cast<std::size_t>(k) * w + cx]);
+      out[static_cast<std::size_t>(cy) * w + cx] = std::isfinite(m) ? m : lowest;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 void OctoMapBuilder::write_occupancy_grid(const std::filesystem::path& pgm, double z_min,
                                           double z_max) {
   tree_->updateInnerOccupancy();
@@ -198,16 +244,20 @@ void OctoMapBuilder::write_occupancy_grid(const std::filesystem::path& pgm, doub
   const double res = config_.resolution;
   const int w = std::max(1, static_cast<int>(std::ceil((x1 - x0) / res)));
   const int h = std::max(1, static_cast<int>(std::ceil((y1 - y0) / res)));
+  // The band [z_min, z_max] is height above the local ground, not world z: world z starts at
+  // the first sensor pose, and on a car the default 0.3-2.0 m band lay 2.3-4 m above the road.
+  const std::vector<double> ground = local_ground(*tree_, x0, y0, res, w, h);
   // map_server: 0 = occupied (black), 254 = free (white), 205 = unknown.
   std::vector<std::uint8_t> grid(static_cast<std::size_t>(w) * h, 205);
   for (auto it = tree_->begin_leafs(); it != tree_->end_leafs(); ++it) {
-    if (it.getZ() < z_min || it.getZ() > z_max) continue;
     const double half = it.getSize() / 2;
     const bool occupied = tree_->isNodeOccupied(*it);
     for (double x = it.getX() - half + res / 2; x < it.getX() + half; x += res) {
       for (double y = it.getY() - half + res / 2; y < it.getY() + half; y += res) {
         const int cx = static_cast<int>((x - x0) / res), cy = static_cast<int>((y - y0) / res);
         if (cx < 0 || cy < 0 || cx >= w || cy >= h) continue;
+        const double above = it.getZ() - ground[static_cast<std::size_t>(cy) * w + cx];
+        if (above < z_min || above > z_max) continue;
         auto& cell = grid[static_cast<std::size_t>(h - 1 - cy) * w + cx];  // image rows go down
         if (occupied) cell = 0;
         else if (cell == 205) cell = 254;

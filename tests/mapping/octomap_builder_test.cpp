@@ -2,6 +2,9 @@
 
 #include <octomap/OcTree.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include "mapping/free_space_vote.hpp"
 #include "mapping/point_cloud_map.hpp"
 #include "io/cloud_file.hpp"
@@ -83,6 +86,47 @@ TEST(OctoMapBuilder, BinaryMapIsWrittenPrunedAsOctoMapWouldPruneIt) {
   ASSERT_TRUE(again.writeBinary((dir / "again.bt").string()));
   EXPECT_EQ(std::filesystem::file_size(dir / "map.bt"), std::filesystem::file_size(dir / "again.bt"));
   EXPECT_LT(leaves, map.tree().getNumLeafNodes());  // the probabilistic tree keeps its detail
+}
+
+TEST(OctoMapBuilder, GridBandIsMeasuredAboveTheLocalGround) {
+  // A car-mounted sensor 2 m above a road (world z = 0 at the sensor), a 1.5 m box on the road
+  // at x = 5: with the default band 0.3-2.0 m above the ground the box is an obstacle, the road
+  // is not (measured from the sensor's height, the band lay 2.3-4 m above the road: empty).
+  test::TempDir dir;
+  MapConfig config;
+  config.resolution = 0.2;
+  OctoMapBuilder map(config);
+  std::vector<Eigen::Vector3f> pts;
+  for (double x = 1; x <= 10; x += 0.1) {
+    for (double y = -3; y <= 3; y += 0.1) pts.emplace_back(static_cast<float>(x), static_cast<float>(y), -2.0f);
+  }
+  for (double y = -0.5; y <= 0.5; y += 0.05) {
+    for (double z = -1.9; z <= -0.5; z += 0.05) pts.emplace_back(5.0f, static_cast<float>(y), static_cast<float>(z));
+  }
+  Eigen::Matrix3Xf cloud(3, static_cast<Eigen::Index>(pts.size()));
+  for (std::size_t k = 0; k < pts.size(); ++k) cloud.col(static_cast<Eigen::Index>(k)) = pts[k];
+  map.insert(cloud, Eigen::Vector3d::Zero());
+  map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0);
+  std::ifstream in(dir / "grid.pgm", std::ios::binary);
+  std::string magic;
+  int w = 0, h = 0, maxval = 0;
+  in >> magic >> w >> h >> maxval;
+  in.get();
+  std::vector<unsigned char> px(static_cast<std::size_t>(w) * h);
+  in.read(reinterpret_cast<char*>(px.data()), static_cast<std::streamsize>(px.size()));
+  double x0 = 0, y0 = 0;
+  std::ifstream meta(dir / "grid.yaml");
+  for (std::string line; std::getline(meta, line);) {
+    if (line.rfind("origin: [", 0) == 0) std::sscanf(line.c_str(), "origin: [%lf, %lf", &x0, &y0);
+  }
+  auto at = [&](double x, double y) {
+    const int cx = static_cast<int>((x - x0) / 0.2), cy = static_cast<int>((y - y0) / 0.2);
+    return px[static_cast<std::size_t>(h - 1 - cy) * w + cx];
+  };
+  EXPECT_EQ(at(5.05, 0.05), 0);  // the box
+  std::size_t occupied = 0;
+  for (auto v : px) occupied += v == 0;
+  EXPECT_LT(occupied, 20u);  // the box's cells, not the road's
 }
 
 TEST(OctoMapBuilder, RepeatedUpdatesClampAsOctoMapDoes) {
