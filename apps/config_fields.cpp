@@ -32,6 +32,15 @@ CLI::Validator number_in(const Range& r) {
       "NUMBER " + describe(r));
 }
 
+std::string key_name(const YAML::Node& key, const std::filesystem::path& file) {
+  // A key that is a list or a map (`[a]: 1`, `{a: 1}: 2`) threw yaml-cpp's own BadConversion,
+  // a message without the file (found by fuzz_preset).
+  if (!key.IsScalar()) {
+    fail(file, "line " + std::to_string(key.Mark().line + 1) + ": a key must be a plain name, not a list or a map");
+  }
+  return key.Scalar();
+}
+
 YAML::Node load_preset(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file)) fail(file, "no such config file");
   YAML::Node root;
@@ -43,7 +52,7 @@ YAML::Node load_preset(const std::filesystem::path& file) {
   if (root.IsNull()) return YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) fail(file, "top level must be a map of sections");
   for (const auto& kv : root) {
-    const auto name = kv.first.as<std::string>();
+    const auto name = key_name(kv.first, file);
     bool ok = false;
     for (const char* s : kAllSections) ok = ok || name == s;
     if (!ok) fail(file, "unknown section '" + name + "'");

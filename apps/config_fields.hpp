@@ -52,6 +52,7 @@ Field<Get> field(const char* name, const char* help, Get get, Range range = kAny
   ::cleanmap::app::field(key, help, [](auto& c) -> auto& { return c.path; }, range)
 
 std::string describe(const Range& r);
+std::string key_name(const YAML::Node& key, const std::filesystem::path& file);  // a map's key, or an error
 std::string format_number(double v);  // %g: 1, 0.5, 1e-09
 
 // A command-line check for a plain numeric option: a finite number in `r` (CLI11's own
@@ -107,7 +108,7 @@ void apply_yaml(const YAML::Node& map, Config& config, const Fields& fields,
                 const std::filesystem::path& file, const std::string& section) {
   if (!map.IsMap()) fail(file, "section '" + section + "' must be a map of key: value");
   for (const auto& kv : map) {
-    const auto key = kv.first.as<std::string>();
+    const auto key = key_name(kv.first, file);
     bool found = false;
     std::apply(
         [&](const auto&... f) {

@@ -192,26 +192,27 @@ void OctoMapBuilder::write_full(const std::filesystem::path& file) {
 
 namespace {
 
-// Lowest occupied height per grid column, then the lowest within kGroundReach of each column:
-// a car's or a wall's cells see the road beside them (their own lowest cell is their bottom).
-// Columns with nothing within reach take the map's lowest ground.
+// The ground under each grid column: its own lowest occupied cell when that lies within
+// kGroundStep of the lowest one within kGroundReach (a road, a wall's or a box's footing: exact
+// on slopes), else that lowest one nearby (under a car's body or a tree's canopy the column's
+// own lowest cell is no ground). Columns with nothing within reach take the map's lowest.
 std::vector<double> local_ground(const octomap::OcTree& tree, double x0, double y0, double res, int w, int h) {
   constexpr double kGroundReach = 2.0;  // m: half a car's width, a wall's footing to the road
+  constexpr double kGroundStep = 0.5;   // m: a curb, 6% over the reach, a cell of quantization
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<double> low(static_cast<std::size_t>(w) * h, inf);
   for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
-    const double half = it.getSize() / 2, bottom = it.getZ() - half;
+    const double half = it.getSize() / 2, z = it.getZ() - half + res / 2;  // its lowest cell's centre
     for (double x = it.getX() - half + res / 2; x < it.getX() + half; x += res) {
       for (double y = it.getY() - half + res / 2; y < it.getY() + half; y += res) {
         const int cx = static_cast<int>((x - x0) / res), cy = static_cast<int>((y - y0) / res);
         if (cx < 0 || cy < 0 || cx >= w || cy >= h) continue;
         double& v = low[static_cast<std::size_t>(cy) * w + cx];
-        v = std::min(v, bottom);
+        v = std::min(v, z);
       }
     }
   }
-  // Separable running minimum over +-r cells: rows, then columns.
   const int r = static_cast<int>(std::ceil(kGroundReach / res));
   std::vector<double> rows(low.size(), inf), out(low.size(), inf);
   for (int cy = 0; cy < h; ++cy) {
@@ -227,7 +228,8 @@ std::vector<double> local_ground(const octomap::OcTree& tree, double x0, double 
     for (int cx = 0; cx < w; ++cx) {
       double m = inf;
       for (int k = std::max(0, cy - r); k <= std::min(h - 1, cy + r); ++k) m = std::min(m, rows[static_cast<std::size_t>(k) * w + cx]);
-      out[static_cast<std::size_t>(cy) * w + cx] = std::isfinite(m) ? m : lowest;
+      const double own = low[static_cast<std::size_t>(cy) * w + cx];
+      out[static_cast<std::size_t>(cy) * w + cx] = !std::isfinite(m) ? lowest : own <= m + kGroundStep ? own : m;
     }
   }
   return out;

@@ -46,6 +46,11 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
   auto r = run("score --input " + log + " --out " + (dir / "s").string() + " --config " + (dir / "p.yaml").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("p.yaml: scorer.radius: must be a finite number"), std::string::npos) << r.output;
+  // A key that is a map (YAML's "? key"): yaml-cpp's own exception, without the file, before.
+  std::ofstream(dir / "k.yaml") << "odometry:\n?  mr_tion: 0.2\n";
+  r = run("score --input " + log + " --out " + (dir / "k").string() + " --config " + (dir / "k.yaml").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("k.yaml: line 2: a key must be a plain name"), std::string::npos) << r.output;
   // A typo that would allocate what no sensor produces (1e5 beams: 35 GB of scans before).
   r = run("demo --beams 100000 --out " + (dir / "big").string());
   EXPECT_EQ(r.code, 1);

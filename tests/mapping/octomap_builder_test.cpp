@@ -89,19 +89,30 @@ TEST(OctoMapBuilder, BinaryMapIsWrittenPrunedAsOctoMapWouldPruneIt) {
 }
 
 TEST(OctoMapBuilder, GridBandIsMeasuredAboveTheLocalGround) {
-  // A car-mounted sensor 2 m above a road (world z = 0 at the sensor), a 1.5 m box on the road
-  // at x = 5: with the default band 0.3-2.0 m above the ground the box is an obstacle, the road
-  // is not (measured from the sensor's height, the band lay 2.3-4 m above the road: empty).
+  // A car-mounted sensor 2 m above a street that climbs 6% (world z = 0 at the sensor), a
+  // 1.5 m box on it at x = 5: with the default band 0.3-2.0 m above the ground the box is an
+  // obstacle and the road is not. Measured from the sensor's height the band lay 2.3-4 m above
+  // the road (nothing in it), and a flat-world ground would put the far road in the band.
   test::TempDir dir;
   MapConfig config;
   config.resolution = 0.2;
   OctoMapBuilder map(config);
+  auto road = [](double x) { return -2.0 + 0.06 * x; };
   std::vector<Eigen::Vector3f> pts;
-  for (double x = 1; x <= 10; x += 0.1) {
-    for (double y = -3; y <= 3; y += 0.1) pts.emplace_back(static_cast<float>(x), static_cast<float>(y), -2.0f);
+  for (double x = 1; x <= 25; x += 0.1) {
+    for (double y = -3; y <= 3; y += 0.1) pts.emplace_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(road(x)));
   }
   for (double y = -0.5; y <= 0.5; y += 0.05) {
-    for (double z = -1.9; z <= -0.5; z += 0.05) pts.emplace_back(5.0f, static_cast<float>(y), static_cast<float>(z));
+    for (double z = road(5) + 0.1; z <= road(5) + 1.5; z += 0.05) {
+      pts.emplace_back(5.0f, static_cast<float>(y), static_cast<float>(z));
+    }
+  }
+  // A canopy 2.6 m above the road at x = 12: no obstacle for the grid (its column's own lowest
+  // cell is the canopy, the ground is the road beside it).
+  for (double x = 11; x <= 13; x += 0.05) {
+    for (double y = -1; y <= 1; y += 0.05) {
+      pts.emplace_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(road(x) + 2.6));
+    }
   }
   Eigen::Matrix3Xf cloud(3, static_cast<Eigen::Index>(pts.size()));
   for (std::size_t k = 0; k < pts.size(); ++k) cloud.col(static_cast<Eigen::Index>(k)) = pts[k];
@@ -124,6 +135,7 @@ TEST(OctoMapBuilder, GridBandIsMeasuredAboveTheLocalGround) {
     return px[static_cast<std::size_t>(h - 1 - cy) * w + cx];
   };
   EXPECT_EQ(at(5.05, 0.05), 0);  // the box
+  EXPECT_NE(at(12.05, 0.05), 0);  // under the canopy
   std::size_t occupied = 0;
   for (auto v : px) occupied += v == 0;
   EXPECT_LT(occupied, 20u);  // the box's cells, not the road's
