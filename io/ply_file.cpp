@@ -213,8 +213,7 @@ CloudRecords read_ply(const std::filesystem::path& file) {
 
 CloudRecords parse_ply(std::string_view text, const std::filesystem::path& file) {
   const Header h = parse_header(file, text);
-  Cursor c{file, text.substr(h.body), h.format};
-  c.line_no = h.lines;
+  Cursor c{file, text.substr(h.body), h.format, 0, h.lines, {}, 0};
   std::optional<CloudRecords> vertices;
   std::map<std::string, double> camera;
   for (const auto& e : h.elements) {
