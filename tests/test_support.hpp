@@ -57,4 +57,16 @@ inline int run_cleanmap(const std::string& args, std::string* output = nullptr) 
   return WEXITSTATUS(pclose(p));
 }
 
+// Exit code and everything printed of one cleanmap command.
+struct CliResult {
+  int code;
+  std::string output;
+};
+
+inline CliResult cli(const std::string& args) {
+  CliResult r;
+  r.code = run_cleanmap(args, &r.output);
+  return r;
+}
+
 }  // namespace cleanmap::test

@@ -8,16 +8,8 @@
 namespace cleanmap {
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result run(const std::string& args) {
-  Result r;
-  r.code = test::run_cleanmap(args, &r.output);
-  return r;
-}
+// The command's exit code and output.
+test::CliResult run(const std::string& args) { return test::cli(args); }
 
 TEST(Cli, UnknownOptionFails) {
   const auto r = run("demo --no-such-option");

@@ -17,16 +17,8 @@ namespace cleanmap {
 namespace {
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result run(const std::string& args) {
-  Result r;
-  r.code = test::run_cleanmap(args, &r.output);
-  return r;
-}
+// The command's exit code and output.
+test::CliResult run(const std::string& args) { return test::cli(args); }
 
 nlohmann::json summary(const fs::path& out) { return nlohmann::json::parse(std::ifstream(out / "summary.json")); }
 

@@ -10,16 +10,8 @@ namespace cleanmap {
 namespace {
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result run(const std::string& args) {
-  Result r;
-  r.code = test::run_cleanmap(args, &r.output);
-  return r;
-}
+// The command's exit code and output.
+test::CliResult run(const std::string& args) { return test::cli(args); }
 
 std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
 
