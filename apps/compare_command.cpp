@@ -80,9 +80,9 @@ void register_compare(CLI::App& app) {
   args->options.add_to(*cmd, PresetOptions::kOdometry | PresetOptions::kScorer);
   cmd->callback([cmd, args] {
     const fs::path ref = args->ref.empty() ? args->input / "poses.txt" : args->ref;
-    auto files = args->options.input_files();
-    for (const auto& f : {args->input, args->config, ref}) files.push_back(f);
-    run_guarded(output_request(args->out, "compare", args->overwrite, files), [&] { run_compare(*cmd, *args, ref); });
+    auto files = args->options.input_files(args->input, args->config);
+    files.push_back(ref);
+    run_guarded({args->out, "compare", files, args->overwrite}, [&] { run_compare(*cmd, *args, ref); });
   });
 }
 

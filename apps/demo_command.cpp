@@ -132,7 +132,7 @@ void register_demo(CLI::App& app) {
   cmd->add_flag("--static-scene", args->static_scene, "Nothing moves but the sensor (a check: nothing should be removed)");
   add_options(*cmd, args->cli, synthetic_fields());
   cmd->callback([cmd, args] {
-    run_guarded(output_request(args->out, "demo", args->overwrite, {args->config}), [&] { run_demo(*cmd, *args); });
+    run_guarded({args->out, "demo", {args->config}, args->overwrite}, [&] { run_demo(*cmd, *args); });
   });
 }
 

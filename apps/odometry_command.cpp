@@ -111,10 +111,8 @@ void register_odometry(CLI::App& app) {
       ->capture_default_str();
   args->options.add_to(*cmd, PresetOptions::kOdometry);
   cmd->callback([cmd, args] {
-    auto files = args->options.input_files();
-    files.push_back(args->input);
-    files.push_back(args->config);
-    run_guarded(output_request(args->out, "odometry", args->overwrite, files), [&] { run_odometry(*cmd, *args); });
+    run_guarded({args->out, "odometry", args->options.input_files(args->input, args->config), args->overwrite},
+                [&] { run_odometry(*cmd, *args); });
   });
 }
 

@@ -16,12 +16,6 @@ struct OutputRequest {
   bool overwrite = false;
 };
 
-// The request of a command reading `input` (and `more` files) into `out`.
-inline OutputRequest output_request(const std::filesystem::path& out, const std::string& command, bool overwrite,
-                                    std::vector<std::filesystem::path> inputs) {
-  return {out, command, std::move(inputs), overwrite};
-}
-
 // --out and --overwrite on a command.
 void add_output_options(CLI::App& cmd, std::filesystem::path& out, bool& overwrite, const std::string& help);
 

@@ -5,18 +5,6 @@
 
 namespace cleanmap::app {
 namespace fs = std::filesystem;
-namespace {
-
-// The log, the preset and the pose and time files given: never written, never under --out.
-template <typename Args>
-std::vector<fs::path> with_files(const Args& a) {
-  auto files = a.options.input_files();
-  files.push_back(a.input);
-  files.push_back(a.config);
-  return files;
-}
-
-}  // namespace
 
 void register_score(CLI::App& app) {
   struct Args {
@@ -32,7 +20,7 @@ void register_score(CLI::App& app) {
   cmd->add_option("--config", args->config, "YAML preset (sections 'input', 'scorer')");
   args->options.add_to(*cmd, PresetOptions::kScorer);
   cmd->callback([cmd, args] {
-    run_guarded(output_request(args->out, "score", args->overwrite, with_files(*args)), [&] {
+    run_guarded({args->out, "score", args->options.input_files(args->input, args->config), args->overwrite}, [&] {
       run_pipeline({args->input, args->out, false, false, "score"}, args->options.resolve(*cmd, args->config), {});
     });
   });
@@ -59,7 +47,7 @@ void register_run(CLI::App& app) {
                 "only (default: two passes, the whole log's visibility judges every scan)");
   args->options.add_to(*cmd, PresetOptions::kOdometry | PresetOptions::kScorer | PresetOptions::kMapping);
   cmd->callback([cmd, args] {
-    run_guarded(output_request(args->out, "run", args->overwrite, with_files(*args)), [&] {
+    run_guarded({args->out, "run", args->options.input_files(args->input, args->config), args->overwrite}, [&] {
       const PipelineConfig cfg = args->options.resolve(*cmd, args->config);
       // An explicit --poses file means "use these poses" too.
       const bool given = args->use_given_poses || !cfg.input.poses.empty();

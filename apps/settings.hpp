@@ -200,8 +200,12 @@ struct PresetOptions {
     if (with & kMapping) add_options(cmd, cli.mapping, mapping_fields());
   }
 
-  // Files named on the command line that a command reads (never written, never under --out).
-  std::vector<std::filesystem::path> input_files() const { return {cli.input.poses, cli.input.times}; }
+  // What a command reads (never written, never under --out): the log, the preset, and the pose
+  // and time files given on the command line.
+  std::vector<std::filesystem::path> input_files(const std::filesystem::path& input,
+                                                 const std::filesystem::path& preset) const {
+    return {input, preset, cli.input.poses, cli.input.times};
+  }
 
   PipelineConfig resolve(const CLI::App& cmd, const std::filesystem::path& preset_file) const {
     const auto preset = load_optional_preset(preset_file);

@@ -96,6 +96,7 @@ Header parse_header(const std::filesystem::path& file, std::string_view text) {
       h.data = w.size() == 2 ? std::string(w[1]) : "";
       h.body = pos;
       h.lines = line_no;
+      if (h.counts.empty()) h.counts.assign(h.names.size(), 1);  // COUNT is optional (v0.5)
       return h;
     } else {
       fail(file, "header line " + std::to_string(line_no) + ": unknown entry '" + printable(key) +
@@ -109,7 +110,7 @@ Header parse_header(const std::filesystem::path& file, std::string_view text) {
 CloudRecords layout(const std::filesystem::path& file, const Header& h, std::size_t file_size) {
   const std::size_t n = h.names.size();
   if (n == 0) fail(file, "header has no FIELDS line");
-  std::vector<std::uint64_t> counts = h.counts.empty() ? std::vector<std::uint64_t>(n, 1) : h.counts;
+  const auto& counts = h.counts;
   if (h.sizes.size() != n || h.types.size() != n || counts.size() != n) {
     fail(file, "FIELDS, SIZE, TYPE and COUNT list different numbers of entries");
   }
@@ -174,7 +175,7 @@ void read_compressed(const std::filesystem::path& file, std::string_view body, c
   r.data.resize(need);
   std::size_t from = 0;
   for (std::size_t k = 0; k < r.fields.size(); ++k) {
-    const std::size_t width = h.sizes[k] * (h.counts.empty() ? 1 : h.counts[k]);
+    const std::size_t width = h.sizes[k] * h.counts[k];
     for (std::size_t i = 0; i < r.points; ++i) {
       std::memcpy(r.data.data() + i * r.point_step + r.fields[k].offset, fields.data() + from + i * width, width);
     }
@@ -184,7 +185,7 @@ void read_compressed(const std::filesystem::path& file, std::string_view body, c
 
 void read_ascii(const std::filesystem::path& file, std::string_view body, const Header& h, CloudRecords& r) {
   std::size_t words = 0;
-  for (std::size_t k = 0; k < r.fields.size(); ++k) words += h.counts.empty() ? 1 : h.counts[k];
+  for (std::size_t k = 0; k < r.fields.size(); ++k) words += h.counts[k];
   // Each value takes a character and a separator at least (the very last needs no newline).
   const std::size_t most = (body.size() + 1) / (2 * words);
   if (r.points > most) {
@@ -204,8 +205,7 @@ void read_ascii(const std::filesystem::path& file, std::string_view body, const 
     }
     std::size_t word = 0;
     for (std::size_t k = 0; k < r.fields.size(); ++k) {
-      const std::size_t count = h.counts.empty() ? 1 : h.counts[k];
-      for (std::size_t c = 0; c < count; ++c, ++word) {
+      for (std::size_t c = 0; c < h.counts[k]; ++c, ++word) {
         const auto v = parse_number(w[word]);
         std::uint8_t* out = r.data.data() + row * r.point_step + r.fields[k].offset + c * h.sizes[k];
         // PCL writes a packed float colour as the integer of its bits.
