@@ -45,7 +45,12 @@ void run_compare(const CLI::App& cmd, const CompareArgs& args, const fs::path& r
   for (bool removal : {false, true}) {
     cfg.odometry.exclude_dynamic = removal;
     const fs::path out = args.out / (removal ? "with" : "without");
-    run_pipeline({args.input, out, true, false, removal ? "compare (removal on)" : "compare (removal off)"}, cfg, {});
+    PipelineOptions pass;
+    pass.input = args.input;
+    pass.out = out;
+    pass.odometry = true;
+    pass.command = removal ? "compare (removal on)" : "compare (removal off)";
+    run_pipeline(pass, cfg, {});
     results.push_back(evaluate(out / "poses_kitti.txt", ref));
   }
   const auto& a = results[0];

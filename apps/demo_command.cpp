@@ -104,7 +104,12 @@ void run_demo(const CLI::App& cmd, const DemoArgs& args) {
     PipelineConfig pipeline;
     pipeline.scorer.voxel_size = 0.1;  // the scene spans 200 m: the relative d_v would be 0.4 m
     pipeline.input.eval_max_range = 20.0;
-    run_pipeline({seq, args.out / "run", true, true, "demo run", true}, pipeline, {});
+    PipelineOptions run;
+    run.input = seq;
+    run.out = args.out / "run";
+    run.odometry = run.mapping = run.offline = true;
+    run.command = "demo run";
+    run_pipeline(run, pipeline, {});
     summary["run"] = (args.out / "run").string();
   }
   write_summary(args.out, summary, true);

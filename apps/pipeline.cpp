@@ -16,6 +16,7 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_pipeline.h>
 
+#include "apps/mos_layout.hpp"
 #include "apps/offline_pass.hpp"
 #include "apps/offline_spill.hpp"
 #include "apps/run_inputs.hpp"
@@ -71,9 +72,12 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   }
   make_dirs(opt.out / "scores");
   make_dirs(opt.out / "labels");
+  const fs::path mos_dir = opt.mos_predictions ? mos_predictions_dir(opt.out, opt.input, opt.mos_sequence) : fs::path();
+  if (!mos_dir.empty()) make_dirs(mos_dir);
   summary["command"] = opt.command;
   summary["input"] = opt.input.string();
   summary["layout"] = seq.layout;
+  if (!mos_dir.empty()) summary["mos_predictions"] = mos_dir.string();
   summary["mode"] = offline ? "offline" : "online";
   summary["times"] = seq.times_source;
   summary["poses"] = use_odometry ? "odometry" : seq.world_frame ? "VIEWPOINT (world-frame scans)" : seq.poses_source;
@@ -193,6 +197,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     if (!offline) feed_back(r);
     write_scores(opt.out / "scores" / (scan.name + ".bin"), to_input_order(scan, r.score, std::nanf("")));
     write_labels(opt.out / "labels" / (scan.name + ".label"), to_input_order(scan, labels, kLabelUnscored));
+    if (!mos_dir.empty()) write_labels(mos_label_file(mos_dir, scan, r.index), mos_labels(scan, r.dynamic));
     dynamic_cloud.add(scan, r.dynamic, r.score, r.index);
     static_cloud.add(scan, keep_static, r.score, r.index);
 
@@ -451,6 +456,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   else std::printf(" static.pcd dynamic.pcd");
   if (use_odometry) std::printf(" poses_kitti.txt poses_tum.txt");
   std::printf(" scores/ labels/ summary.json\n");
+  if (!mos_dir.empty()) std::printf("  SemanticKITTI MOS predictions in %s\n", mos_dir.c_str());
 }
 
 }  // namespace cleanmap::app

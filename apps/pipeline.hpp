@@ -21,6 +21,8 @@ struct PipelineOptions {
   bool mapping = false;   // build the OctoMap and map clouds
   std::string command;
   bool offline = false;   // two passes (needs mapping)
+  bool mos_predictions = false;  // also OUT/sequences/XX/predictions (apps/mos_layout.hpp)
+  std::string mos_sequence;      // XX; empty: the input folder's name
 };
 
 // Writes every output into options.out, summary.json last; throws Error on bad input (the

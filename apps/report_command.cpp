@@ -14,17 +14,18 @@ namespace cleanmap::app {
 namespace fs = std::filesystem;
 namespace {
 
-// Every k-th point's (x, y), at most `limit` of them: enough for a top view.
-nlohmann::json top_view(const fs::path& file, std::size_t limit) {
-  if (!fs::exists(file)) return {std::vector<float>{}, std::vector<float>{}};
-  const Scan cloud = read_cloud(file);
-  const std::size_t step = std::max<std::size_t>(1, cloud.size() / limit);
-  std::vector<float> x, y;
-  for (std::size_t i = 0; i < cloud.size(); i += step) {
-    x.push_back(cloud.points(0, static_cast<Eigen::Index>(i)));
-    y.push_back(cloud.points(1, static_cast<Eigen::Index>(i)));
+// Every k-th point's x, y, z (flat), at most about `limit` of them: enough for a top view and
+// for the 3D view to stay a few MB.
+nlohmann::json sample_cloud(const fs::path& file, std::size_t limit) {
+  std::vector<double> xyz;
+  if (fs::exists(file)) {
+    const Scan cloud = read_cloud(file);
+    const std::size_t step = std::max<std::size_t>(1, (cloud.size() + limit - 1) / limit);
+    for (std::size_t i = 0; i < cloud.size(); i += step) {
+      for (int k = 0; k < 3; ++k) xyz.push_back(cloud.points(k, static_cast<Eigen::Index>(i)));
+    }
   }
-  return {x, y};
+  return {{"xyz", xyz}};
 }
 
 void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& summary, nlohmann::json& d);
@@ -42,7 +43,8 @@ nlohmann::json read_summary(const fs::path& out) {
   return summary;
 }
 
-void make_report(const fs::path& out, fs::path ref, const std::string& python, const fs::path& script) {
+void make_report(const fs::path& out, fs::path ref, const std::string& python, const fs::path& script,
+                 const fs::path& viewer) {
   const auto summary = read_summary(out);
   make_dirs(out / "report");
   nlohmann::json d;
@@ -64,16 +66,26 @@ void make_report(const fs::path& out, fs::path ref, const std::string& python, c
   if (!complete) std::fprintf(stderr, "cleanmap: warning: %s describes an incomplete run: %s\n", out.c_str(),
                               d["error"].get<std::string>().c_str());
   const bool is_map = fs::exists(out / "map_static.pcd");
-  guarded("static cloud", [&] { d["static_xy"] = top_view(out / (is_map ? "map_static.pcd" : "static.pcd"), 100000); });
-  guarded("dynamic cloud", [&] { d["dynamic_xy"] = top_view(out / (is_map ? "map_dynamic.pcd" : "dynamic.pcd"), 50000); });
+  guarded("static cloud", [&] { d["static_cloud"] = sample_cloud(out / (is_map ? "map_static.pcd" : "static.pcd"), 150000); });
+  guarded("dynamic cloud", [&] { d["dynamic_cloud"] = sample_cloud(out / (is_map ? "map_dynamic.pcd" : "dynamic.pcd"), 50000); });
   guarded("trajectory", [&] { add_trajectory(out, ref, summary, d); });
+  if (!fs::exists(script)) fail(script, "report script not found (give --script)");
+  // The numbers reach the script through a file that lives only as long as this call (it was
+  // left behind as a 7.9 MB report/data.json).
+  struct RemoveAtExit {
+    fs::path file;
+    ~RemoveAtExit() {
+      std::error_code ignored;
+      fs::remove(file, ignored);
+    }
+  } data{out / "report" / ".data.json"};
   {
-    std::ofstream f(out / "report" / "data.json");
-    if (!f) fail(out / "report" / "data.json", "cannot create file");
+    std::ofstream f(data.file);
+    if (!f) fail(data.file, "cannot create file");
     f << d.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   }
-  if (!fs::exists(script)) fail(script, "report script not found (give --script)");
-  const std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "'";
+  std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "' '" + data.file.string() + "'";
+  if (!viewer.empty()) cmd += " '" + viewer.string() + "'";
   if (std::system(cmd.c_str()) != 0) {
     fail(script, "failed (it needs Debian's python3-matplotlib: apt-get install python3-matplotlib)");
   }
@@ -102,8 +114,8 @@ void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& sum
       double travelled = 0;
       for (std::size_t i = 0; i < est.size(); ++i) {
         const Eigen::Vector3d a = (ape.alignment * est[i].translation().homogeneous()).head<3>();
-        est_xy.push_back({a.x(), a.y()});
-        ref_xy.push_back({r[i].translation().x(), r[i].translation().y()});
+        est_xy.push_back({a.x(), a.y(), a.z()});
+        ref_xy.push_back({r[i].translation().x(), r[i].translation().y(), r[i].translation().z()});
         if (i > 0) travelled += (r[i].translation() - r[i - 1].translation()).norm();
         errors.push_back((a - r[i].translation()).norm());
         dist.push_back(travelled);
@@ -118,32 +130,34 @@ void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& sum
       d["kitti"] = kitti_json(kitti);
     } else {
       nlohmann::json est_xy = nlohmann::json::array();
-      for (const auto& p : est) est_xy.push_back({p.translation().x(), p.translation().y()});
+      for (const auto& p : est) est_xy.push_back({p.translation().x(), p.translation().y(), p.translation().z()});
       d["estimate"] = est_xy;
     }
   }
 }
 
-// The plotting script: beside an installed binary (PREFIX/bin/cleanmap ->
-// PREFIX/share/cleanmap/report.py), else in the source tree the build came from.
-fs::path default_script() {
+// A file of the report's: beside an installed binary (PREFIX/bin/cleanmap ->
+// PREFIX/share/cleanmap/NAME), else where the build tree has it.
+fs::path report_file(const fs::path& installed_name, const fs::path& in_build) {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) {
     fs::path prefix = exe.parent_path();
     const fs::path bindir = CLEANMAP_INSTALL_BINDIR;
     for ([[maybe_unused]] const auto& part : bindir) prefix = prefix.parent_path();
-    const fs::path installed = prefix / CLEANMAP_INSTALL_SCRIPT;
+    const fs::path installed = prefix / CLEANMAP_INSTALL_DATA / installed_name;
     if (fs::exists(installed, ec)) return installed;
   }
-  return CLEANMAP_REPORT_SCRIPT;
+  return in_build;
 }
 
 }  // namespace
 
 void register_report(CLI::App& app) {
   struct Args {
-    fs::path out, ref, script = default_script();
+    fs::path out, ref, script = report_file("report.py", CLEANMAP_REPORT_SCRIPT);
+    // The bundled three.js view; without it (npm never ran) the page says why it has none.
+    fs::path viewer = report_file("viewer.js", CLEANMAP_VIEWER_JS);
     std::string python = "/usr/bin/python3";  // Debian's, which has python3-matplotlib
   };
   auto args = std::make_shared<Args>();
@@ -152,7 +166,12 @@ void register_report(CLI::App& app) {
   cmd->add_option("--ref", args->ref, "Reference poses; default <input>/poses.txt when present");
   cmd->add_option("--python", args->python, "Python with matplotlib")->capture_default_str();
   cmd->add_option("--script", args->script, "The plotting script")->capture_default_str();
-  cmd->callback([args] { make_report(args->out, args->ref, args->python, args->script); });
+  cmd->add_option("--viewer", args->viewer, "The bundled 3D view (empty: none)")->capture_default_str();
+  cmd->callback([args] {
+    std::error_code ec;
+    const fs::path viewer = fs::exists(args->viewer, ec) ? args->viewer : fs::path();
+    make_report(args->out, args->ref, args->python, args->script, viewer);
+  });
 }
 
 }  // namespace cleanmap::app

@@ -14,5 +14,7 @@ cd "$work"
   --use-given-poses > /dev/null 2>&1
 "$prefix/bin/cleanmap" report run > /dev/null 2>&1
 test -s run/report.html
+# The 3D view's bundle is installed beside the script and found from there.
+if [ -f "$build/apps/report/viewer.js" ]; then grep -q 'id="map3d"' run/report.html; fi
 grep -q '"complete": true' run/summary.json
 echo "check-install: $prefix/bin/cleanmap runs demo, run and report from $work"

@@ -14,5 +14,12 @@ $SUDO apt-get install -y -qq \
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev \
   librcpputils-dev librcutils-dev libament-index-cpp-dev \
   clang libclang-rt-14-dev \
+  chromium \
   > /dev/null
+# Node.js and npm come with this machine image (v20, npm 11); Debian's are the fallback (its npm
+# package would clash with the image's Node.js).
+if ! command -v npm > /dev/null; then $SUDO apt-get install -y -qq nodejs npm > /dev/null; fi
+# The report's 3D view (three.js, bundled by esbuild) and its page check (playwright-core driving
+# Debian's chromium, pngjs): versions pinned in apps/report/package-lock.json.
+(cd "$(dirname "$0")/../apps/report" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error > /dev/null)
 echo "install-deps: all packages present"

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "io/label_file.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -156,48 +157,6 @@ TEST(CliEval, AFrameMismatchIsWarnedAbout) {
   EXPECT_NE(r.output.find("warning: the two trajectories head 90 deg apart"), std::string::npos) << r.output;
 }
 
-TEST(CliReport, WritesASelfContainedPageWithPlotsAndTables) {
-  test::TempDir dir;
-  ASSERT_EQ(run("demo --scans 6 --beams 32 --columns 512 --out " + dir.path.string()).code, 0);
-  const auto r = run("report " + (dir / "run").string());
-  ASSERT_EQ(r.code, 0) << r.output;
-  std::ifstream in(dir / "run" / "report.html");
-  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::size_t images = 0;
-  for (auto p = page.find("data:image/png;base64,"); p != std::string::npos; p = page.find("data:image/png;base64,", p + 1)) ++images;
-  EXPECT_EQ(images, 4u);
-  EXPECT_EQ(page.find("http"), std::string::npos);  // nothing fetched from a network
-  EXPECT_NE(page.find("APE (SE3) translation"), std::string::npos);
-  for (const char* png : {"trajectory.png", "error_vs_distance.png", "per_scan.png", "maps.png"}) {
-    EXPECT_GT(std::filesystem::file_size(dir / "run" / "report" / png), 5000u) << png;
-  }
-}
-
-TEST(CliReport, AFailedRunSaysSoAtTheTopAndACorruptSummaryIsNamed) {
-  test::TempDir dir;
-  ASSERT_EQ(run("demo --scans 4 --beams 16 --columns 256 --out " + dir.path.string()).code, 0);
-  // The run's summary as a failure leaves it, and its static map cut short.
-  auto s = nlohmann::json::parse(std::ifstream(dir / "run" / "summary.json"));
-  s["complete"] = false;
-  s["error"] = "interrupted by SIGINT (Ctrl-C) after 3 of 4 scans (run)";
-  std::ofstream(dir / "run" / "summary.json") << s.dump();
-  std::filesystem::resize_file(dir / "run" / "map_static.pcd", 300);
-  auto r = run("report " + (dir / "run").string());
-  ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("describes an incomplete run"), std::string::npos) << r.output;
-  std::ifstream in(dir / "run" / "report.html");
-  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto banner = page.find("This run did not complete.");
-  ASSERT_NE(banner, std::string::npos);
-  EXPECT_LT(banner, page.find("<h2>"));  // above every table
-  EXPECT_NE(page.find("after 3 of 4 scans"), std::string::npos);
-  EXPECT_NE(page.find("map_static.pcd: WIDTH"), std::string::npos);  // named among the problems
-  std::ofstream(dir / "run" / "summary.json") << "{\"command\": \"run\", \"compl";
-  r = run("report " + (dir / "run").string());
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("summary.json: is not valid JSON"), std::string::npos) << r.output;
-}
-
 }  // namespace
 }  // namespace cleanmap
 
@@ -219,6 +178,58 @@ TEST(CliOdometry, WrittenScansFormASequenceThatScoreReads) {
   const auto s = nlohmann::json::parse(std::ifstream(dir / "score" / "summary.json"));
   EXPECT_TRUE(s["complete"].get<bool>());
   EXPECT_EQ(s["scans"].get<int>(), 8);
+}
+
+}  // namespace
+}  // namespace cleanmap
+
+namespace cleanmap {
+namespace {
+
+// --mos-predictions: OUT/sequences/XX/predictions/NNNNNN.label as the SemanticKITTI MOS benchmark
+// takes them: one label per velodyne point, 251 or 9 only, the moving ones those of labels/.
+TEST(CliMosPredictions, ARealSequenceIsWrittenInTheBenchmarkLayout) {
+  const auto seq = test::shared_data() / "semantickitti" / "07";
+  if (!std::filesystem::exists(seq)) GTEST_SKIP() << seq << " missing";
+  test::TempDir dir;
+  const auto r = run("score --input " + seq.string() + " --out " + (dir / "s").string() + " --config " +
+                     (test::source_dir() / "config" / "kitti-hdl64.yaml").string() + " --mos-predictions");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto pred = dir / "s" / "sequences" / "07" / "predictions";
+  std::size_t files = 0, moving = 0, unscored = 0;
+  for (const auto& e : std::filesystem::directory_iterator(seq / "velodyne")) {
+    const std::string name = e.path().stem().string();
+    const auto points = std::filesystem::file_size(e.path()) / 16;  // x y z intensity, float32
+    const auto mos = read_labels(pred / (name + ".label"), points);
+    const auto ours = read_labels(dir / "s" / "labels" / (name + ".label"), points);
+    for (std::size_t i = 0; i < points; ++i) {
+      ASSERT_TRUE(mos[i] == kLabelMoving || mos[i] == kLabelStatic) << name << " point " << i << ": " << mos[i];
+      ASSERT_EQ(mos[i] == kLabelMoving, ours[i] == kLabelMoving) << name << " point " << i;
+      moving += mos[i] == kLabelMoving;
+      unscored += ours[i] == kLabelUnscored;
+    }
+    ++files;
+  }
+  EXPECT_EQ(files, 10u);
+  EXPECT_GT(moving, 1000u);    // 07's walking people and cars
+  EXPECT_GT(unscored, 1000u);  // static in the benchmark's file, 0 in labels/
+  const auto summary = nlohmann::json::parse(std::ifstream(dir / "s" / "summary.json"));
+  EXPECT_EQ(summary["mos_predictions"].get<std::string>(), pred.string());
+}
+
+TEST(CliMosPredictions, TheSequenceNumberComesFromTheFolderOrTheOption) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --generate-only --scans 3 --beams 16 --columns 256 --out " + dir.path.string()).code, 0);
+  const std::string input = " --input " + (dir / "sequence").string();
+  auto r = run("run" + input + " --out " + (dir / "a").string() + " --use-given-poses --mos-predictions");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("is not a sequence number; give --mos-sequence XX"), std::string::npos) << r.output;
+  r = run("run" + input + " --out " + (dir / "b").string() + " --use-given-poses --mos-predictions --mos-sequence 8");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "b" / "sequences" / "08" / "predictions" / "000002.label"));
+  r = run("run" + input + " --out " + (dir / "c").string() + " --use-given-poses --mos-predictions --mos-sequence x1");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("--mos-sequence 'x1': not a sequence number"), std::string::npos) << r.output;
 }
 
 }  // namespace
