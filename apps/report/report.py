@@ -109,8 +109,10 @@ def view_box(d, static):
     src = traj if len(traj) else static
     if not len(src):
         return -10.0, 10.0, -10.0, 10.0
-    lo, hi = src[:, :2].min(axis=0), src[:, :2].max(axis=0)
-    m = TOP_VIEW_MARGIN_M if len(traj) else 0.0
+    if len(traj):
+        lo, hi, m = src[:, :2].min(axis=0), src[:, :2].max(axis=0), TOP_VIEW_MARGIN_M
+    else:  # the cloud without its farthest 1% (a few returns at 120 m would set the scale)
+        lo, hi, m = np.percentile(src[:, :2], 1, axis=0), np.percentile(src[:, :2], 99, axis=0), 0.0
     return lo[0] - m, hi[0] + m, lo[1] - m, hi[1] + m
 
 
@@ -233,13 +235,18 @@ def figure(path):
 
 def plots(d, folder):
     """The maps first (what a run is for), then the trajectory and per-scan plots side by side."""
-    small = [figure(trajectory_plot(d, folder))]
+    small, notes = [], ""
+    if d.get("estimate") or d.get("reference"):
+        small.append(figure(trajectory_plot(d, folder)))
+    else:
+        notes += left_out("Trajectory", "this run wrote no poses (it used given ones: see the input's pose file)")
     if d.get("ape_per_pose"):
         small.append(figure(error_plot(d, folder)))
+    elif d.get("estimate"):
+        notes += left_out("Error vs distance", "there are no reference poses (give --ref FILE, or keep poses.txt "
+                          "in the input folder)")
     small.append(figure(scans_plot(d, folder)))
-    note = "" if d.get("ape_per_pose") else left_out(
-        "Error vs distance", "there are no reference poses (give --ref FILE, or keep poses.txt in the input folder)")
-    return (f"<h2>Map, top view</h2>{figure(map_plot(d, folder))}", f'<h2>Trajectory and scans</h2>{note}'
+    return (f"<h2>Map, top view</h2>{figure(map_plot(d, folder))}", f'<h2>Trajectory and scans</h2>{notes}'
             f'<div class="row">{"".join(small)}</div>')
 
 

@@ -68,6 +68,19 @@ TEST(CliReport, WithoutReferencePosesTheErrorPlotIsLeftOutWithItsReason) {
   EXPECT_FALSE(std::filesystem::exists(dir / "run" / "report" / "error_vs_distance.png"));
 }
 
+TEST(CliReport, ARunOnGivenPosesHasNoEmptyTrajectoryFrame) {
+  test::TempDir dir;
+  ASSERT_EQ(run("demo --generate-only --scans 4 --beams 16 --columns 256 --out " + dir.path.string()).code, 0);
+  ASSERT_EQ(run("run --input " + (dir / "sequence").string() + " --out " + (dir / "run").string() +
+                " --use-given-poses").code, 0);
+  const auto r = run("report " + (dir / "run").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string page = read_text(dir / "run" / "report.html");
+  EXPECT_EQ(count(page, "data:image/png;base64,"), 2u);  // the map and the per-scan plot
+  EXPECT_NE(page.find("Trajectory</b>: not shown, this run wrote no poses"), std::string::npos);
+  EXPECT_EQ(page.find("Error vs distance"), std::string::npos);  // nothing to say without an estimate
+}
+
 TEST(CliReport, WithoutTheViewerScriptThePageSaysWhyItHasNo3DView) {
   test::TempDir dir;
   ASSERT_EQ(run("demo --scans 3 --beams 16 --columns 256 --out " + dir.path.string()).code, 0);
