@@ -17,16 +17,6 @@
 namespace cleanmap {
 namespace {
 
-// A pose from a message; nullopt unless every number is finite and the quaternion has a length
-// (a NaN or zero quaternion would turn every later point into NaN).
-std::optional<Eigen::Isometry3d> checked_pose(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
-  if (!q.coeffs().allFinite() || !t.allFinite() || !(q.norm() > 1e-6)) return std::nullopt;
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  p.linear() = q.normalized().toRotationMatrix();
-  p.translation() = t;
-  return p;
-}
-
 std::optional<Eigen::Isometry3d> to_pose(const geometry_msgs::Transform& t) {
   return checked_pose(Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z),
                       Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z));
@@ -35,16 +25,6 @@ std::optional<Eigen::Isometry3d> to_pose(const geometry_msgs::Transform& t) {
 std::optional<Eigen::Isometry3d> to_pose(const geometry_msgs::Pose& t) {
   return checked_pose(Eigen::Quaterniond(t.orientation.w, t.orientation.x, t.orientation.y, t.orientation.z),
                       Eigen::Vector3d(t.position.x, t.position.y, t.position.z));
-}
-
-// Pose at time t from a time-sorted track, interpolated between its neighbours; held
-// constant beyond the ends.
-Eigen::Isometry3d pose_at(const std::map<double, Eigen::Isometry3d>& track, double t) {
-  auto hi = track.lower_bound(t);
-  if (hi == track.begin()) return hi->second;
-  if (hi == track.end()) return std::prev(hi)->second;
-  auto lo = std::prev(hi);
-  return interpolate_pose(lo->second, hi->second, (t - lo->first) / (hi->first - lo->first));
 }
 
 }  // namespace

@@ -6,16 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "io/bag_common.hpp"
 #include "io/cloud_file.hpp"
 #include "io/scan.hpp"
 
 namespace cleanmap {
 
-struct BagOptions {
-  std::string cloud_topic;   // sensor_msgs/PointCloud2; empty: the only PointCloud2 topic
-  std::string pose_topic;    // nav_msgs/Odometry, geometry_msgs/TransformStamped or tf2_msgs/TFMessage
-  std::string child_frame;   // with tf: the sensor's frame id
-};
 
 // A ROS 1 bag read directly (no ROS installation running): one scan per PointCloud2 message,
 // read one at a time; poses from a pose topic interpolated at the scan stamps.

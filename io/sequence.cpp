@@ -5,6 +5,7 @@
 #include "io/error.hpp"
 #include "io/kitti_bin.hpp"
 #include "io/label_file.hpp"
+#include "io/ros2_bag.hpp"
 #ifdef CLEANMAP_WITH_ROSBAG
 #include "io/rosbag_source.hpp"
 #endif
@@ -42,15 +43,14 @@ bool Sequence::has_labels() const {
 
 namespace {
 
-// Times and poses of a bag: its message stamps, and a pose topic or a pose file.
-Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
-#ifdef CLEANMAP_WITH_ROSBAG
+// Times and poses of a bag (ROS 1 or 2): its message stamps, and a pose topic or a pose file.
+template <typename Source>
+Sequence bag_sequence(const fs::path& root, std::shared_ptr<const Source> bag, const char* layout,
+                      const SequenceOptions& options) {
   Sequence seq;
-  seq.root = file;
-  seq.layout = "rosbag";
+  seq.root = root;
+  seq.layout = layout;
   seq.cloud = options.cloud;
-  BagOptions bo{options.bag_topic, options.bag_pose_topic, options.bag_child_frame};
-  auto bag = std::make_shared<BagSource>(file, bo);
   for (std::size_t i = 0; i < bag->size(); ++i) {
     seq.scans.push_back(fs::path(scan_name(i)));
   }
@@ -67,10 +67,17 @@ Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
     seq.poses_source = "bag " + options.bag_pose_topic;
   }
   for (std::size_t i = 1; i < seq.times.size(); ++i) {
-    if (!(seq.times[i] > seq.times[i - 1])) fail(file, "message stamps must increase (message " + std::to_string(i) + ")");
+    if (!(seq.times[i] > seq.times[i - 1])) fail(root, "message stamps must increase (message " + std::to_string(i) + ")");
   }
-  seq.bag = std::move(bag);
+  seq.read_message = [bag](std::size_t index, TimeUnit unit) { return bag->read(index, unit); };
   return seq;
+}
+
+BagOptions bag_options(const SequenceOptions& o) { return {o.bag_topic, o.bag_pose_topic, o.bag_child_frame}; }
+
+Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
+#ifdef CLEANMAP_WITH_ROSBAG
+  return bag_sequence<BagSource>(file, std::make_shared<const BagSource>(file, bag_options(options)), "rosbag", options);
 #else
   (void)options;
   fail(file, "this build of cleanmap has no ROS bag support (configure with CLEANMAP_WITH_ROSBAG=ON)");
@@ -81,8 +88,19 @@ Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
 
 Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
   if (folder.extension() == ".bag") return open_bag(folder, options);
+  if (is_ros2_bag(folder)) {
+    return bag_sequence<Ros2BagSource>(folder, std::make_shared<const Ros2BagSource>(folder, bag_options(options)),
+                                       "ros2bag", options);
+  }
   if (!fs::exists(folder)) fail(folder, "no such folder");
   if (!fs::is_directory(folder)) fail(folder, "is not a folder");
+  for (const auto& e : fs::directory_iterator(folder)) {
+    const auto ext = e.path().extension();
+    if (ext == ".db3" || ext == ".mcap") {
+      fail(folder, "holds " + e.path().filename().string() + " but no metadata.yaml: not a complete ROS 2 bag "
+                   "folder (`ros2 bag reindex FOLDER` writes it)");
+    }
+  }
   Sequence seq;
   seq.root = folder;
   seq.cloud = options.cloud;
@@ -160,7 +178,7 @@ Scan read_scan_file(const fs::path& file, const CloudReadOptions& options) {
 LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   LoadedScan out;
 #ifdef CLEANMAP_WITH_ROSBAG
-  out.scan = seq.bag ? seq.bag->read(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
+  out.scan = seq.read_message ? seq.read_message(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
 #else
   out.scan = read_scan_file(seq.scans.at(index), seq.cloud);
 #endif

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,16 +30,15 @@ struct SequenceOptions {
   std::string bag_child_frame;  // with tf: the sensor frame
 };
 
-class BagSource;
-
-// A log given as one folder (or a ROS 1 .bag file), found automatically: a KITTI sequence (velodyne/*.bin, labels/,
+// A log given as one folder (or a ROS 1 .bag file), found automatically: a ROS 2 bag folder
+// (metadata.yaml with sqlite3 or mcap storage), a KITTI sequence (velodyne/*.bin, labels/,
 // poses.txt, times.txt, calib.txt), a DynamicMap benchmark sequence (pcd/*.pcd: points already
 // in the world frame, the sensor pose in each file's VIEWPOINT), a folder with a scans/
 // subfolder, or a plain folder of .bin/.pcd/.ply scans, sorted by name. Scans are read one at a
 // time (load_scan).
 struct Sequence {
   std::filesystem::path root;
-  std::string layout;  // "kitti", "dynamicmap", "scans-folder" or "plain-folder"
+  std::string layout;  // "kitti", "dynamicmap", "scans-folder", "plain-folder", "rosbag" or "ros2bag"
   std::vector<std::filesystem::path> scans;
   std::vector<std::filesystem::path> labels;  // per scan; empty path where none
   std::vector<double> times;                  // per scan, seconds
@@ -48,7 +48,8 @@ struct Sequence {
   std::optional<Eigen::Isometry3d> calib_tr;  // KITTI velodyne -> camera 0
   bool world_frame = false;  // scans are already registered (DynamicMap); pose = VIEWPOINT
   CloudReadOptions cloud;
-  std::shared_ptr<const BagSource> bag;  // layout "rosbag": scans are the bag's messages
+  // Layouts "rosbag" and "ros2bag": scans are the bag's messages, read by index.
+  std::function<Scan(std::size_t index, TimeUnit unit)> read_message;
 
   std::size_t size() const { return scans.size(); }
   bool has_poses() const { return !poses.empty(); }

@@ -10,7 +10,7 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_pcd fuzz_ply fuzz_kitti_bin fuzz_label fuzz_pose_file fuzz_calib
-                                     fuzz_point_cloud2 fuzz_preset)
+                                     fuzz_point_cloud2 fuzz_ros2_cdr fuzz_mcap fuzz_preset)
 build=build-fuzz
 data="${CLEANMAP_SHARED_DATA:-../shared/data}"
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCLEANMAP_FUZZ=ON \
@@ -53,6 +53,22 @@ printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n' | seed fuzz_pose_fil
 printf '# timestamp tx ty tz qx qy qz qw\n0.0 0 0 0 0 0 0 1\n0.1 1 0 0 0 0 0.0998 0.995\n' | seed fuzz_pose_file tum.txt
 printf '\3\0\0\0\0\0\7\1\4\0\0\0\7\2\x08\0\0\0\7\x0c\0\0\0\2\0\0\0\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40' | seed fuzz_point_cloud2 xyz.bin
 for p in config/*.yaml; do seed fuzz_preset "$(basename "$p")" < "$p"; done
+# A one-point PointCloud2 in CDR (tests/io/ros2_bag_support.hpp's fixture), and an MCAP file
+# holding it in an uncompressed chunk, laid out as the MCAP specification says.
+cdr='\0\1\0\0\1\0\0\0\0\x65\xcd\x1d\2\0\0\0l\0\0\0\1\0\0\0\1\0\0\0\1\0\0\0\2\0\0\0x\0\0\0\0\0\0\0\7\0\0\0\1\0\0\0\0\0\0\0\4\0\0\0\4\0\0\0\4\0\0\0\0\0\x80\x3f\1'
+printf "$cdr" | seed fuzz_ros2_cdr point_cloud2.cdr
+printf "$cdr" | /usr/bin/python3 -c '
+import struct, sys
+msg = sys.stdin.buffer.read()
+s = lambda t: struct.pack("<I", len(t)) + t
+rec = lambda op, c: bytes([op]) + struct.pack("<Q", len(c)) + c
+inner = (rec(3, struct.pack("<H", 1) + s(b"sensor_msgs/msg/PointCloud2") + s(b"ros2msg") + struct.pack("<I", 0))
+         + rec(4, struct.pack("<HH", 1, 1) + s(b"/points") + s(b"cdr") + struct.pack("<I", 0))
+         + rec(5, struct.pack("<HIQQ", 1, 0, 1500000000, 1500000000) + msg))
+chunk = struct.pack("<QQQI", 1500000000, 1500000000, len(inner), 0) + s(b"") + struct.pack("<Q", len(inner)) + inner
+magic = b"\x89MCAP0\r\n"
+sys.stdout.buffer.write(magic + rec(1, s(b"ros2") + s(b"cleanmap")) + rec(6, chunk) + rec(15, struct.pack("<I", 0))
+                        + rec(2, struct.pack("<QQI", 0, 0, 0)) + magic)' | seed fuzz_mcap one.mcap
 
 mkdir -p "$build/findings"
 status=0
