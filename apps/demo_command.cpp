@@ -4,6 +4,8 @@
 
 #include "apps/commands.hpp"
 #include "apps/config_fields.hpp"
+#include "apps/installed_file.hpp"
+#include "apps/settings.hpp"
 #include "apps/output_claim.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/pipeline.hpp"
@@ -11,6 +13,7 @@
 #include "io/cloud_file.hpp"
 #include "io/label_file.hpp"
 #include "io/pose_file.hpp"
+#include "simulation/synthetic_depth.hpp"
 #include "simulation/synthetic_lidar.hpp"
 
 namespace cleanmap::app {
@@ -37,10 +40,62 @@ struct DemoArgs {
   bool overwrite = false;
   bool generate_only = false;
   bool static_scene = false;
+  std::string sensor = "lidar";
   SyntheticConfig cli;  // values as given on the command line
 };
 
+// Where the demo's files are, as its last lines.
+void print_outputs(const fs::path& seq, const char* contents, const DemoArgs& args) {
+  std::printf("demo outputs:\n  sequence:   %s (%s)\n", seq.c_str(), contents);
+  if (args.generate_only) return;
+  const fs::path run = args.out / "run";
+  std::printf("  clean map:  %s (OctoMap), %s\n  removed:    %s\n  poses:      %s\n"
+              "  per point:  %s, %s\n  summary:    %s\n",
+              (run / "map.bt").c_str(), (run / "map_static.pcd").c_str(), (run / "map_dynamic.pcd").c_str(),
+              (run / "poses_kitti.txt").c_str(), (run / "scores").c_str(), (run / "labels").c_str(),
+              (run / "summary.json").c_str());
+}
+
+// The arm preset (config/rgbd-arm.yaml, installed or in the source tree): the depth demo runs
+// with exactly what a user of that preset gets.
+PipelineConfig depth_demo_config() {
+  const fs::path preset = installed_file("config/rgbd-arm.yaml", fs::path(CLEANMAP_CONFIG_DIR) / "rgbd-arm.yaml");
+  const auto root = load_preset(preset);
+  PipelineConfig c;
+  if (root["input"]) apply_yaml(root["input"], c.input, input_fields(), preset, "input");
+  if (root["odometry"]) apply_yaml(root["odometry"], c.odometry, odometry_fields(), preset, "odometry");
+  if (root["scorer"]) apply_yaml(root["scorer"], c.scorer, scorer_fields(), preset, "scorer");
+  if (root["mapping"]) apply_yaml(root["mapping"], c.mapping, mapping_fields(), preset, "mapping");
+  return c;
+}
+
+// The depth-camera demo: a camera on a robot arm over a table while a hand pushes an object
+// (the paper's second experiment), in the TUM RGB-D layout, then `run` with the arm preset.
+void run_depth_demo(const DemoArgs& args, int frames) {
+  const fs::path seq = args.out / "sequence";
+  nlohmann::json summary;
+  summary["command"] = "demo";
+  summary["sensor"] = "depth";
+  write_summary(args.out, summary, false);
+  write_table_sequence(seq, make_table_scene(), frames, 30.0, 1);
+  std::printf("demo: synthetic depth sequence (%d frames of 320 x 240, TUM RGB-D layout) in %s\n", frames, seq.c_str());
+  std::fflush(stdout);  // before the run's progress on stderr
+  summary["sequence"] = seq.string();
+  if (!args.generate_only) {
+    PipelineOptions run;
+    run.input = seq;
+    run.out = args.out / "run";
+    run.odometry = run.mapping = run.offline = true;
+    run.command = "demo run";
+    run_pipeline(run, depth_demo_config(), {});
+    summary["run"] = run.out.string();
+  }
+  write_summary(args.out, summary, true);
+  print_outputs(seq, "depth/, depth.txt, groundtruth.txt, camera.yaml, labels/", args);
+}
+
 void run_demo(const CLI::App& cmd, const DemoArgs& args) {
+  if (args.sensor == "depth") return run_depth_demo(args, cmd.count("--scans") ? args.cli.scans : 90);
   SyntheticConfig cfg;
   cfg.lidar.columns = 1024;  // the demo's default: a quick, still realistic 64 x 1024 sensor
   const auto fields = synthetic_fields();
@@ -113,16 +168,7 @@ void run_demo(const CLI::App& cmd, const DemoArgs& args) {
     summary["run"] = (args.out / "run").string();
   }
   write_summary(args.out, summary, true);
-  std::printf("demo outputs:\n  sequence:   %s (scans/, labels/, poses.txt, times.txt)\n",
-              seq.c_str());
-  if (!args.generate_only) {
-    const fs::path run = args.out / "run";
-    std::printf("  clean map:  %s (OctoMap), %s\n  removed:    %s\n  poses:      %s\n"
-                "  per point:  %s, %s\n  summary:    %s\n",
-                (run / "map.bt").c_str(), (run / "map_static.pcd").c_str(),
-                (run / "map_dynamic.pcd").c_str(), (run / "poses_kitti.txt").c_str(),
-                (run / "scores").c_str(), (run / "labels").c_str(), (run / "summary.json").c_str());
-  }
+  print_outputs(seq, "scans/, labels/, poses.txt, times.txt", args);
 }
 
 }  // namespace
@@ -135,6 +181,9 @@ void register_demo(CLI::App& app) {
   cmd->add_option("--config", args->config, "YAML preset (section 'synthetic')");
   cmd->add_flag("--generate-only", args->generate_only, "Only write the synthetic sequence");
   cmd->add_flag("--static-scene", args->static_scene, "Nothing moves but the sensor (a check: nothing should be removed)");
+  cmd->add_option("--sensor", args->sensor, "lidar (a street) or depth (a camera on an arm over a table, TUM RGB-D layout)")
+      ->check(CLI::IsMember({"lidar", "depth"}))
+      ->capture_default_str();
   add_options(*cmd, args->cli, synthetic_fields());
   cmd->callback([cmd, args] {
     run_guarded({args->out, "demo", {args->config}, args->overwrite}, [&] { run_demo(*cmd, *args); });

@@ -29,6 +29,7 @@
 #include "dynamics/object_tracker.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
 #include "evaluation/dynamic_metrics.hpp"
+#include "io/depth_image.hpp"
 #include "io/label_file.hpp"
 #include "io/score_file.hpp"
 #include "mapping/free_space_vote.hpp"
@@ -36,6 +37,7 @@
 #include "mapping/point_cloud_map.hpp"
 #include "mapping/visibility_map.hpp"
 #include "odometry/deskew.hpp"
+#include "odometry/level_frame.hpp"
 #include "odometry/lidar_odometry.hpp"
 
 namespace cleanmap::app {
@@ -132,6 +134,8 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   Progress progress(offline ? opt.command + " (pass 1 of 2)" : opt.command, seq.size());
 
   std::mutex odom_mutex;  // the pipeline's first stage registers, its last feeds dynamics back
+  // The odometry's world frame, levelled on the first scan when asked (identity otherwise).
+  Eigen::Isometry3d level = Eigen::Isometry3d::Identity();
   std::vector<Clock::time_point> finished_at;  // when each input scan that released output was written
   std::size_t scans_done = 0;                  // scans through every stage of this pass
   double mapping_s = 0, write_s = 0;
@@ -147,7 +151,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
             return segment_ground(sub, cfg.scorer.ground);
           },
           [&](const Eigen::Matrix3Xf& sub) { return octo->hits_in_free_space(sub); },
-          cfg.mapping.free_space_objects);
+          cfg.mapping.free_space_objects, cfg.mapping.free_space_voxel);
       for (std::size_t i = 0; i < scan.size(); ++i) {
         if (objects[i] && !r.dynamic[i]) {
           r.dynamic[i] = 1;
@@ -170,8 +174,8 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   auto feed_back = [&](const ScoredScan& r) {
     if (!odom || !cfg.odometry.exclude_dynamic) return;
     std::vector<Eigen::Vector3d> moving;
-    for (std::size_t i = 0; i < r.scan.size(); ++i) {
-      if (r.dynamic[i]) moving.push_back(r.scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
+    for (std::size_t i = 0; i < r.scan.size(); ++i) {  // back into the odometry's own frame
+      if (r.dynamic[i]) moving.push_back(level.inverse() * r.scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
     }
     if (moving.empty()) return;
     std::lock_guard<std::mutex> lock(odom_mutex);
@@ -198,6 +202,10 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     write_scores(opt.out / "scores" / (scan.name + ".bin"), to_input_order(scan, r.score, std::nanf("")));
     write_labels(opt.out / "labels" / (scan.name + ".label"), to_input_order(scan, labels, kLabelUnscored));
     if (!mos_dir.empty()) write_labels(mos_label_file(mos_dir, scan, r.index), mos_labels(scan, r.dynamic));
+    if (seq.image_width > 0) {
+      write_label_mask(opt.out / "labels" / (scan.name + ".png"), to_input_order(scan, labels, kLabelUnscored),
+                       seq.image_width, seq.image_height);
+    }
     dynamic_cloud.add(scan, r.dynamic, r.score, r.index);
     static_cloud.add(scan, keep_static, r.score, r.index);
 
@@ -288,7 +296,12 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
             t = Clock::now();
             if (odom) {
               std::lock_guard<std::mutex> lock(odom_mutex);
+              if (item->index == 0 && cfg.odometry.level_first_scan) {
+                if (const auto r = level_rotation(loaded.scan.points)) level.linear() = *r;
+                else std::fprintf(stderr, "%s: level_first_scan: no dominant plane in the first scan; frame kept\n", opt.command.c_str());
+              }
               auto step = odom->register_scan(loaded.scan);
+              step.pose = level * step.pose;
               item->world = std::move(step.deskewed);
               item->world.points = (step.pose.cast<float>() * item->world.points).eval();
               item->world.pose = step.pose;

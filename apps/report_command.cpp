@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "apps/commands.hpp"
+#include "apps/installed_file.hpp"
 #include "apps/output_dir.hpp"
 #include "evaluation/trajectory_metrics.hpp"
 #include "io/cloud_file.hpp"
@@ -136,28 +137,13 @@ void add_trajectory(const fs::path& out, fs::path ref, const nlohmann::json& sum
   }
 }
 
-// A file of the report's: beside an installed binary (PREFIX/bin/cleanmap ->
-// PREFIX/share/cleanmap/NAME), else where the build tree has it.
-fs::path report_file(const fs::path& installed_name, const fs::path& in_build) {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    fs::path prefix = exe.parent_path();
-    const fs::path bindir = CLEANMAP_INSTALL_BINDIR;
-    for ([[maybe_unused]] const auto& part : bindir) prefix = prefix.parent_path();
-    const fs::path installed = prefix / CLEANMAP_INSTALL_DATA / installed_name;
-    if (fs::exists(installed, ec)) return installed;
-  }
-  return in_build;
-}
-
 }  // namespace
 
 void register_report(CLI::App& app) {
   struct Args {
-    fs::path out, ref, script = report_file("report.py", CLEANMAP_REPORT_SCRIPT);
+    fs::path out, ref, script = installed_file("report.py", CLEANMAP_REPORT_SCRIPT);
     // The bundled three.js view; without it (npm never ran) the page says why it has none.
-    fs::path viewer = report_file("viewer.js", CLEANMAP_VIEWER_JS);
+    fs::path viewer = installed_file("viewer.js", CLEANMAP_VIEWER_JS);
     std::string python = "/usr/bin/python3";  // Debian's, which has python3-matplotlib
   };
   auto args = std::make_shared<Args>();

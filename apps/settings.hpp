@@ -27,6 +27,7 @@ struct InputSettings {
   std::string bag_topic;          // ROS bag input: PointCloud2 topic (empty = the only one)
   std::string bag_pose_topic;     // ROS bag input: Odometry / TransformStamped / tf topic
   std::string bag_child_frame;    // ROS bag input with tf: the sensor frame
+  std::string camera;             // depth-image input: intrinsics file; default <input>/camera.yaml
   PlatformMaskConfig platform;    // the recording platform's own returns, masked
 };
 
@@ -44,6 +45,7 @@ inline auto input_fields() {
       CLEANMAP_FIELD("bag_topic", bag_topic, "ROS 1 or 2 bag: PointCloud2 topic (default: the only one)"),
       CLEANMAP_FIELD("bag_pose_topic", bag_pose_topic, "ROS 1 or 2 bag: Odometry, TransformStamped or tf topic"),
       CLEANMAP_FIELD("bag_child_frame", bag_child_frame, "ROS 1 or 2 bag with tf: the sensor's frame id"),
+      CLEANMAP_FIELD("camera", camera, "Depth images: intrinsics YAML (fx fy cx cy depth_scale ...); default <input>/camera.yaml"),
       CLEANMAP_FIELD("self_mask", platform.automatic, "Mask the recording platform (returns fixed in the sensor frame)"),
       CLEANMAP_FIELD_IN("self_mask_scans", platform.learn_scans, kAtLeastOne, "Scans the platform mask is learnt from"),
       CLEANMAP_FIELD_IN("self_mask_range", platform.max_range, kPositive, "Only points this close can be the platform, m"),
@@ -63,6 +65,7 @@ inline SequenceOptions sequence_options(const InputSettings& s) {
   o.bag_topic = s.bag_topic;
   o.bag_pose_topic = s.bag_pose_topic;
   o.bag_child_frame = s.bag_child_frame;
+  o.camera_file = s.camera;
   return o;
 }
 
@@ -118,7 +121,8 @@ inline auto odometry_fields() {
       CLEANMAP_FIELD("deskew_reference", deskew_reference, "Time a pose refers to: start, middle or end of the sweep"),
       CLEANMAP_FIELD("time_from_azimuth", time_from_azimuth, "Derive per-point times from azimuth when absent"),
       CLEANMAP_FIELD_IN("vertical_correction_deg", vertical_correction_deg, (Range{-10, 10}), "KITTI HDL-64 vertical angle fix (0.205)"),
-      CLEANMAP_FIELD("exclude_dynamic", exclude_dynamic, "Remove scorer-labelled dynamic points from the local map"));
+      CLEANMAP_FIELD("exclude_dynamic", exclude_dynamic, "Remove scorer-labelled dynamic points from the local map"),
+      CLEANMAP_FIELD("level_first_scan", level_first_scan, "Level the world frame on the first scan's dominant plane (depth cameras)"));
 }
 
 // Map and output settings of `cleanmap run` (preset section "mapping").
@@ -131,6 +135,7 @@ struct MappingSettings {
   bool write_raw_map = false;     // also map_raw.pcd: the map without removal
   bool free_space = true;         // add the OctoMap free-space opinion to the scorer's
   ObjectRule free_space_objects = kFreeSpaceRule;  // when a cluster is dynamic by free space
+  double free_space_voxel = 0.2;  // the votes' subsample: one vote per voxel (a street: 0.2 m)
   VisibilityConfig visibility;    // offline runs: the log-wide map of cells seen through
   bool occupancy_grid = false;    // 2D grid (PGM + YAML, ROS map_server)
   double grid_z_min = 0.3;        // heights above the local ground that count for the grid, m
@@ -152,7 +157,9 @@ inline auto mapping_fields() {
       CLEANMAP_FIELD("write_raw_map", write_raw_map, "Also write map_raw.pcd (no removal)"),
       CLEANMAP_FIELD("free_space", free_space, "Add the free-space opinion (hits in observed-free cells)"),
       CLEANMAP_FIELD_IN("free_space_fraction", free_space_objects.min_fraction, kShare, "Share of a cluster in free space that makes it dynamic"),
-      CLEANMAP_FIELD_IN("free_space_min_hits", free_space_objects.min_votes, kNonNegative, "0.2 m voxels of a cluster that must lie in free space"),
+      CLEANMAP_FIELD_IN("free_space_min_hits", free_space_objects.min_votes, kNonNegative, "Voxels (free_space_voxel) of a cluster that must lie in free space"),
+      CLEANMAP_FIELD_IN("free_space_voxel", free_space_voxel, (Range{0.001, 100}), "Free-space votes: subsample voxel, one vote each, m"),
+      CLEANMAP_FIELD_IN("free_space_min_split_radius", free_space_objects.min_split_radius, kPositive, "Free-space vote: over-large clusters are re-clustered down to this radius, m"),
       CLEANMAP_FIELD_IN("free_space_cluster_radius", free_space_objects.radius, kPositive, "Free-space vote: clustering distance, m"),
       CLEANMAP_FIELD_IN("free_space_max_extent", free_space_objects.max_extent, kPositive, "Free-space vote: wider clusters are split, m"),
       CLEANMAP_FIELD_IN("visibility_resolution", visibility.resolution, (Range{0.001, 100}), "Offline: cells of the log-wide visibility map, m"),
@@ -200,11 +207,11 @@ struct PresetOptions {
     if (with & kMapping) add_options(cmd, cli.mapping, mapping_fields());
   }
 
-  // What a command reads (never written, never under --out): the log, the preset, and the pose
-  // and time files given on the command line.
+  // What a command reads (never written, never under --out): the log, the preset, and the pose,
+  // time and camera files given on the command line.
   std::vector<std::filesystem::path> input_files(const std::filesystem::path& input,
                                                  const std::filesystem::path& preset) const {
-    return {input, preset, cli.input.poses, cli.input.times};
+    return {input, preset, cli.input.poses, cli.input.times, cli.input.camera};
   }
 
   PipelineConfig resolve(const CLI::App& cmd, const std::filesystem::path& preset_file) const {

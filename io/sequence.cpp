@@ -5,6 +5,7 @@
 #include "io/error.hpp"
 #include "io/kitti_bin.hpp"
 #include "io/label_file.hpp"
+#include "io/depth_sequence.hpp"
 #include "io/ros2_bag.hpp"
 #ifdef CLEANMAP_WITH_ROSBAG
 #include "io/rosbag_source.hpp"
@@ -69,7 +70,7 @@ Sequence bag_sequence(const fs::path& root, std::shared_ptr<const Source> bag, c
   for (std::size_t i = 1; i < seq.times.size(); ++i) {
     if (!(seq.times[i] > seq.times[i - 1])) fail(root, "message stamps must increase (message " + std::to_string(i) + ")");
   }
-  seq.read_message = [bag](std::size_t index, TimeUnit unit) { return bag->read(index, unit); };
+  seq.read_scan = [bag](std::size_t index, TimeUnit unit) { return bag->read(index, unit); };
   return seq;
 }
 
@@ -88,6 +89,7 @@ Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
 
 Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
   if (folder.extension() == ".bag") return open_bag(folder, options);
+  if (is_tum_rgbd(folder)) return open_tum_rgbd(folder, options);
   if (is_ros2_bag(folder)) {
     return bag_sequence<Ros2BagSource>(folder, std::make_shared<const Ros2BagSource>(folder, bag_options(options)),
                                        "ros2bag", options);
@@ -177,11 +179,7 @@ Scan read_scan_file(const fs::path& file, const CloudReadOptions& options) {
 
 LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   LoadedScan out;
-#ifdef CLEANMAP_WITH_ROSBAG
-  out.scan = seq.read_message ? seq.read_message(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
-#else
-  out.scan = read_scan_file(seq.scans.at(index), seq.cloud);
-#endif
+  out.scan = seq.read_scan ? seq.read_scan(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
   Scan& scan = out.scan;
   if (!seq.labels[index].empty()) {
     out.labels = read_labels(seq.labels[index], scan.size());

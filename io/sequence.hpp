@@ -24,21 +24,24 @@ struct SequenceOptions {
   // into lidar poses (Tr^-1 P Tr) unless this is false.
   bool kitti_poses_in_camera_frame = true;
   CloudReadOptions cloud;
-  // ROS 1 bags (when built with bag support): the input is a .bag file.
+  // ROS 1 bags (when built with bag support: a .bag file) and ROS 2 bags (a bag folder).
   std::string bag_topic;        // PointCloud2 topic; empty = the only one
   std::string bag_pose_topic;   // optional poses (Odometry, TransformStamped or tf)
   std::string bag_child_frame;  // with tf: the sensor frame
+  // Depth-image sequences (TUM RGB-D layout): the camera's intrinsics; default <folder>/camera.yaml.
+  std::filesystem::path camera_file;
 };
 
 // A log given as one folder (or a ROS 1 .bag file), found automatically: a ROS 2 bag folder
-// (metadata.yaml with sqlite3 or mcap storage), a KITTI sequence (velodyne/*.bin, labels/,
+// (metadata.yaml with sqlite3 or mcap storage), a depth-image sequence in the TUM RGB-D layout
+// (depth/*.png, depth.txt, optional groundtruth.txt, camera.yaml), a KITTI sequence (velodyne/*.bin, labels/,
 // poses.txt, times.txt, calib.txt), a DynamicMap benchmark sequence (pcd/*.pcd: points already
 // in the world frame, the sensor pose in each file's VIEWPOINT), a folder with a scans/
 // subfolder, or a plain folder of .bin/.pcd/.ply scans, sorted by name. Scans are read one at a
 // time (load_scan).
 struct Sequence {
   std::filesystem::path root;
-  std::string layout;  // "kitti", "dynamicmap", "scans-folder", "plain-folder", "rosbag" or "ros2bag"
+  std::string layout;  // "kitti", "dynamicmap", "scans-folder", "plain-folder", "rosbag", "ros2bag", "tum-rgbd"
   std::vector<std::filesystem::path> scans;
   std::vector<std::filesystem::path> labels;  // per scan; empty path where none
   std::vector<double> times;                  // per scan, seconds
@@ -48,8 +51,10 @@ struct Sequence {
   std::optional<Eigen::Isometry3d> calib_tr;  // KITTI velodyne -> camera 0
   bool world_frame = false;  // scans are already registered (DynamicMap); pose = VIEWPOINT
   CloudReadOptions cloud;
-  // Layouts "rosbag" and "ros2bag": scans are the bag's messages, read by index.
-  std::function<Scan(std::size_t index, TimeUnit unit)> read_message;
+  // Layouts whose scans are not point files ("rosbag", "ros2bag": messages; "tum-rgbd": depth
+  // images), read by index.
+  std::function<Scan(std::size_t index, TimeUnit unit)> read_scan;
+  int image_width = 0, image_height = 0;  // depth images: labels are written back as masks too
 
   std::size_t size() const { return scans.size(); }
   bool has_poses() const { return !poses.empty(); }

@@ -10,12 +10,11 @@ namespace cleanmap {
 std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
                                              const GroundQuery& ground_of,
                                              const FreeSpaceQuery& hits_in_free_space,
-                                             const ObjectRule& rule) {
+                                             const ObjectRule& rule, double voxel) {
   const auto n = static_cast<std::size_t>(points.cols());
   std::vector<std::uint8_t> out(n, 0);
   if (n == 0) return out;
-  constexpr double kVoxel = 0.2;
-  const auto voxels = voxel_downsample_with_owners(points, kVoxel);
+  const auto voxels = voxel_downsample_with_owners(points, voxel);
   const auto& keep = voxels.keep;
   const Eigen::Matrix3Xf sub = points(Eigen::all, keep);
   // Ground is never an object: only the rest asks the map (about half the look-ups).
@@ -29,7 +28,7 @@ std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
   std::vector<std::uint8_t> hits(keep.size(), 0);
   for (std::size_t j = 0; j < above.size(); ++j) hits[static_cast<std::size_t>(above[j])] = answers[j];
   if (std::none_of(hits.begin(), hits.end(), [](std::uint8_t h) { return h != 0; })) return out;
-  // Votes are counted on the subsample: one per occupied 0.2 m voxel.
+  // Votes are counted on the subsample: one per occupied voxel.
   const auto moving = moving_objects(sub, include, hits, {}, rule, [&](const auto& in, const auto& seed, float r) {
     return clusters_from_seeds(sub, in, seed, r);
   });

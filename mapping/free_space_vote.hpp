@@ -14,7 +14,7 @@ namespace cleanmap {
 inline constexpr ObjectRule kFreeSpaceRule{0.6, 5, 0.3, 12.0, 0.15};
 
 // The occupancy opinion on one scan (world frame), per object: Euclidean clusters of its
-// non-ground points (on a 0.2 m voxel subsample) are dynamic when enough of them (`rule`:
+// non-ground points (on a `voxel` subsample: 0.2 m for streets, a few cm for a tabletop) are dynamic when enough of them (`rule`:
 // votes are the subsample points in cells the map had seen free, `hits_in_free_space` answers
 // that) do; over-large clusters are split as the rule says. Returns 1 per point in such
 // clusters. Normals miss cars driving past (their sides move within their own planes); free
@@ -26,6 +26,6 @@ using GroundQuery = std::function<std::vector<std::uint8_t>(const Eigen::Matrix3
 std::vector<std::uint8_t> free_space_objects(const Eigen::Matrix3Xf& points,
                                              const GroundQuery& ground_of,
                                              const FreeSpaceQuery& hits_in_free_space,
-                                             const ObjectRule& rule);
+                                             const ObjectRule& rule, double voxel = 0.2);
 
 }  // namespace cleanmap

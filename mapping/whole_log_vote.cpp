@@ -41,11 +41,11 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
 
 WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
                                const VisibilityMap& log, const GroundQuery& ground_of, const ObjectRule& rule,
-                               bool log_end) {
+                               bool log_end, double voxel) {
   WholeLogVerdict v;
   if (log_end) v.vetoed = veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius));
   const auto objects = free_space_objects(
-      points, ground_of, [&](const Eigen::Matrix3Xf& sub) { return log.moved_through(sub); }, rule);
+      points, ground_of, [&](const Eigen::Matrix3Xf& sub) { return log.moved_through(sub); }, rule, voxel);
   for (std::size_t i = 0; i < dynamic.size(); ++i) {
     v.added += objects[i] && !dynamic[i];
     dynamic[i] |= objects[i];

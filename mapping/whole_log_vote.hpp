@@ -29,6 +29,6 @@ struct WholeLogVerdict {
 // Updates `dynamic` (1 = dynamic) in place.
 WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
                                const VisibilityMap& log, const GroundQuery& ground_of, const ObjectRule& rule,
-                               bool log_end);
+                               bool log_end, double voxel = 0.2);
 
 }  // namespace cleanmap

@@ -27,6 +27,9 @@ struct OdometryConfig {
   bool time_from_azimuth = false;    // derive per-point times from azimuth when absent
   double vertical_correction_deg = 0.0;    // KITTI HDL-64: 0.205
   bool exclude_dynamic = false;      // drop scorer-labelled dynamic points from the local map
+  // Rotate the odometry's world frame so the first scan's dominant plane is horizontal
+  // (odometry/level_frame.hpp): a depth camera's first frame is not level, a lidar's is.
+  bool level_first_scan = false;
 };
 
 }  // namespace cleanmap

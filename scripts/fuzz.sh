@@ -10,7 +10,7 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_pcd fuzz_ply fuzz_kitti_bin fuzz_label fuzz_pose_file fuzz_calib
-                                     fuzz_point_cloud2 fuzz_ros2_cdr fuzz_mcap fuzz_preset)
+                                     fuzz_point_cloud2 fuzz_ros2_cdr fuzz_mcap fuzz_png fuzz_preset)
 build=build-fuzz
 data="${CLEANMAP_SHARED_DATA:-../shared/data}"
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCLEANMAP_FUZZ=ON \
@@ -53,6 +53,13 @@ printf '1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n' | seed fuzz_pose_fil
 printf '# timestamp tx ty tz qx qy qz qw\n0.0 0 0 0 0 0 0 1\n0.1 1 0 0 0 0 0.0998 0.995\n' | seed fuzz_pose_file tum.txt
 printf '\3\0\0\0\0\0\7\1\4\0\0\0\7\2\x08\0\0\0\7\x0c\0\0\0\2\0\0\0\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40\0\0\x80\x3f\0\0\0\x40\0\0\x40\x40' | seed fuzz_point_cloud2 xyz.bin
 for p in config/*.yaml; do seed fuzz_preset "$(basename "$p")" < "$p"; done
+# A 4 x 2 16-bit greyscale PNG (depth 0 .. 7000), written by Python's zlib as the format says.
+/usr/bin/python3 -c '
+import struct, sys, zlib
+def chunk(t, d): return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+rows = b"".join(b"\0" + b"".join(struct.pack(">H", 1000 * (4 * y + x)) for x in range(4)) for y in range(2))
+sys.stdout.buffer.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 4, 2, 16, 0, 0, 0, 0))
+                        + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))' | seed fuzz_png depth.png
 # A one-point PointCloud2 in CDR (tests/io/ros2_bag_support.hpp's fixture), and an MCAP file
 # holding it in an uncompressed chunk, laid out as the MCAP specification says.
 cdr='\0\1\0\0\1\0\0\0\0\x65\xcd\x1d\2\0\0\0l\0\0\0\1\0\0\0\1\0\0\0\1\0\0\0\2\0\0\0x\0\0\0\0\0\0\0\7\0\0\0\1\0\0\0\0\0\0\0\4\0\0\0\4\0\0\0\4\0\0\0\0\0\x80\x3f\1'

@@ -14,7 +14,7 @@ $SUDO apt-get install -y -qq \
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev \
   librcpputils-dev librcutils-dev libament-index-cpp-dev \
   clang libclang-rt-14-dev \
-  libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev \
+  libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev libpng-dev \
   chromium \
   > /dev/null
 # Node.js and npm come with this machine image (v20, npm 11); Debian's are the fallback (its npm

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "io/label_file.hpp"
+#include "simulation/ray_box.hpp"
 
 namespace cleanmap {
 namespace {
@@ -38,19 +39,7 @@ double intersect(const SceneObject& obj, const Eigen::Vector3d& o, const Eigen::
   const Eigen::Vector3d db(cy * d.x() + sy * d.y(), -sy * d.x() + cy * d.y(), d.z());
   const Eigen::Vector3d lo(-obj.size.x() / 2, -obj.size.y() / 2, 0.0);
   const Eigen::Vector3d hi(obj.size.x() / 2, obj.size.y() / 2, obj.size.z());
-  double s_in = -kInf, s_out = kInf;
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(db[k]) < 1e-12) {
-      if (ob[k] < lo[k] || ob[k] > hi[k]) return kInf;
-      continue;
-    }
-    double s1 = (lo[k] - ob[k]) / db[k], s2 = (hi[k] - ob[k]) / db[k];
-    if (s1 > s2) std::swap(s1, s2);
-    s_in = std::max(s_in, s1);
-    s_out = std::min(s_out, s2);
-  }
-  if (s_in > s_out || s_out <= 0) return kInf;
-  return s_in > 0 ? s_in : kInf;
+  return ray_box(ob, db, lo, hi);
 }
 
 double bounding_radius(const SceneObject& obj) {

@@ -1,0 +1,47 @@
+// Levelling a depth camera's first frame on the plane it looks at.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "odometry/level_frame.hpp"
+
+namespace cleanmap {
+namespace {
+
+TEST(LevelFrame, TheDominantPlaneBecomesHorizontalWithUpTowardsTheCamera) {
+  // A camera 0.8 m above a floor, looking down 47 degrees (optical frame: z forward, y down),
+  // sees the floor (70% of its points) and a box (30%) off it.
+  const Eigen::Matrix3d cam_to_world =
+      (Eigen::AngleAxisd(-M_PI / 2 - 47.0 * M_PI / 180, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Vector3d cam(0, 0, 0.8);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::Matrix3Xf pts(3, 1000);
+  for (int i = 0; i < 1000; ++i) {
+    const Eigen::Vector3d w = i < 700 ? Eigen::Vector3d(u(rng), 1.0 + 0.5 * u(rng), 0.0)
+                                      : Eigen::Vector3d(0.2 * u(rng), 1.0 + 0.2 * u(rng), 0.1 + 0.1 * (u(rng) + 1));
+    pts.col(i) = (cam_to_world.transpose() * (w - cam)).cast<float>();  // into the camera frame
+  }
+  const auto r = level_rotation(pts);
+  ASSERT_TRUE(r);
+  // The floor's normal, seen from the camera, must come out as +z: exactly the camera's tilt.
+  const Eigen::Vector3d floor_up_in_camera = cam_to_world.transpose() * Eigen::Vector3d::UnitZ();
+  EXPECT_TRUE((*r * floor_up_in_camera).isApprox(Eigen::Vector3d::UnitZ(), 1e-5));
+  // A wall facing the camera, bigger than the floor it sees, is not the support.
+  Eigen::Matrix3Xf room(3, 1000);
+  for (int i = 0; i < 1000; ++i) {
+    const Eigen::Vector3d w = i < 400 ? Eigen::Vector3d(u(rng), 1.0 + 0.5 * u(rng), 0.0)
+                                      : Eigen::Vector3d(u(rng), 2.0, 1.0 + 0.8 * u(rng));  // above 0.2 m
+    room.col(i) = (cam_to_world.transpose() * (w - cam)).cast<float>();
+  }
+  const auto in_room = level_rotation(room);
+  ASSERT_TRUE(in_room);
+  EXPECT_TRUE((*in_room * floor_up_in_camera).isApprox(Eigen::Vector3d::UnitZ(), 1e-5));
+  // Nothing plane-like: no answer, and the frame is kept.
+  Eigen::Matrix3Xf cloud(3, 500);
+  for (int i = 0; i < 500; ++i) cloud.col(i) = Eigen::Vector3f(u(rng), u(rng), u(rng));
+  EXPECT_FALSE(level_rotation(cloud));
+}
+
+}  // namespace
+}  // namespace cleanmap
