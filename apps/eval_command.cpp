@@ -130,7 +130,7 @@ void eval_dynamic(const DynamicArgs& a) {
   nlohmann::json scans = nlohmann::json::array();
   for (std::size_t i = 0; i < seq.size(); ++i) {
     if (!from_boxes && seq.labels[i].empty()) continue;
-    const Scan scan = read_scan_file(seq.scans[i], seq.cloud);
+    const Scan scan = read_raw_scan(seq, i);
     const auto truth = from_boxes ? labels_from_boxes(scan, boxes[i], moving[i], a.box_margin)
                                   : read_labels(seq.labels[i], scan.size());
     const auto pred_file = dir / (seq.scans[i].stem().string() + ".label");

@@ -72,7 +72,7 @@ void convert(const Args& a) {
   std::vector<float> gt_moving;
   std::size_t masked = 0, moving = 0;
   for (std::size_t i = 0; i < seq.size(); ++i) {
-    const Scan raw = read_scan_file(seq.scans[i], seq.cloud);
+    const Scan raw = read_raw_scan(seq, i);
     const auto is_moving = truth.of(i, raw);
     std::vector<std::int32_t> keep;
     for (Eigen::Index k = 0; k < raw.points.cols(); ++k) {

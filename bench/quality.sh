@@ -37,9 +37,11 @@ sets=(
   "kitti00 (0-2, odometry)|$data/kitti00|--config $here/config/kitti-hdl64.yaml|"
   "pandar64_street (boxes)|$data/pandar64_street|--config $here/config/pandar64.yaml|--poses @OUT@/poses.txt"
   "synthetic street|@SYNTH@|--voxel-size 0.1|"
+  "synthetic depth (arm)|@DEPTH@|--config $here/config/rgbd-arm.yaml|"
 )
 
 "$cm" demo --generate-only --overwrite --out "$work/synthetic" > /dev/null 2>&1
+"$cm" demo --sensor depth --generate-only --overwrite --out "$work/depth" > /dev/null 2>&1
 
 metric() {  # metric JSON FIELD
   python3 -c "import json,sys; d=json.load(open(sys.argv[1])); v = d[sys.argv[2]]; print('n/a' if v is None else '%.3f' % v)" "$1" "$2"
@@ -50,6 +52,7 @@ printf '%-26s %6s %6s %6s   %6s %6s %6s   %7s\n' "" "(all" "ranges)" "" "(within
 for entry in "${sets[@]}"; do
   IFS='|' read -r name input run_opts eval_opts <<< "$entry"
   input="${input//@SYNTH@/$work/synthetic/sequence}"
+  input="${input//@DEPTH@/$work/depth/sequence}"
   out="$work/$(echo "$name" | tr -c 'a-zA-Z0-9\n' '_')"
   rm -rf "$out"
   # shellcheck disable=SC2086

@@ -177,9 +177,13 @@ Scan read_scan_file(const fs::path& file, const CloudReadOptions& options) {
   return read_cloud(file, options);
 }
 
+Scan read_raw_scan(const Sequence& seq, std::size_t index) {
+  return seq.read_scan ? seq.read_scan(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
+}
+
 LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   LoadedScan out;
-  out.scan = seq.read_scan ? seq.read_scan(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
+  out.scan = read_raw_scan(seq, index);
   Scan& scan = out.scan;
   if (!seq.labels[index].empty()) {
     out.labels = read_labels(seq.labels[index], scan.size());

@@ -71,6 +71,10 @@ struct LoadedScan {
 
 LoadedScan load_scan(const Sequence& sequence, std::size_t index);
 
+// Scan `index` as its input holds it (sensor frame, every point, nothing dropped), whatever the
+// layout: a file, a bag message or a depth image.
+Scan read_raw_scan(const Sequence& sequence, std::size_t index);
+
 // Reads a single scan file of any supported format (.bin, .pcd, .ply).
 Scan read_scan_file(const std::filesystem::path& file, const CloudReadOptions& options = {});
 
