@@ -8,9 +8,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <functional>
 #include <map>
-#include <regex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -66,6 +67,21 @@ struct Update {
   double rate, eta;
 };
 
+// "LABEL  DONE/TOTAL scans  RATE scans/s  ETA ETA s" (trailing blanks allowed), else nothing.
+std::optional<Update> parse_update(const std::string& part, std::string& label) {
+  const auto scans = part.find(" scans  ");
+  if (scans == std::string::npos) return std::nullopt;
+  const auto gap = part.rfind("  ", scans);
+  if (gap == std::string::npos || gap == 0) return std::nullopt;
+  Update u{};
+  char tail = 0;
+  const int n = std::sscanf(part.c_str() + gap, "  %zu/%zu scans  %lf scans/s  ETA %lf s %c", &u.done, &u.total, &u.rate,
+                            &u.eta, &tail);
+  if (n != 4) return std::nullopt;
+  label = part.substr(0, gap);
+  return u;
+}
+
 TEST(TerminalProgress, EachPassHasOneHonestBarThatEndsAtItsScansAndTheRunOneRate) {
   test::TempDir dir;
   ASSERT_EQ(test::cli("demo --generate-only --scans 14 --beams 32 --columns 1024 --out " + dir.path.string()).code, 0);
@@ -77,17 +93,19 @@ TEST(TerminalProgress, EachPassHasOneHonestBarThatEndsAtItsScansAndTheRunOneRate
   // line, every refresh is an update and the last one is what stays on screen.
   std::map<std::string, std::vector<Update>> bars;
   std::vector<std::string> lines;
-  const std::regex update(R"(^(.+?)  (\d+)/(\d+) scans  ([0-9.]+) scans/s  ETA (\d+) s\s*$)");
-  const std::string text = std::regex_replace(s.text, std::regex("\r\n"), "\n");
+  std::string text;
+  for (std::size_t i = 0; i < s.text.size(); ++i) {
+    if (!(s.text[i] == '\r' && i + 1 < s.text.size() && s.text[i + 1] == '\n')) text += s.text[i];
+  }
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);) {
     std::istringstream refreshes(line);
     std::string part, last;
     while (std::getline(refreshes, part, '\r')) {
       if (part.rfind("\033[K", 0) == 0) part.erase(0, 3);  // the bar cleared before a pass's line
-      std::smatch m;
-      if (std::regex_match(part, m, update)) {
-        bars[m[1]].push_back({std::stoul(m[2]), std::stoul(m[3]), std::stod(m[4]), std::stod(m[5])});
+      std::string label;
+      if (const auto u = parse_update(part, label)) {
+        bars[label].push_back(*u);
       } else if (!part.empty()) {
         last = part;
       }
@@ -130,7 +148,6 @@ TEST(TerminalProgress, EachPassHasOneHonestBarThatEndsAtItsScansAndTheRunOneRate
 TEST(TerminalProgress, TheBarCountsScansWhoseOutputIsWritten) {
   test::TempDir dir;
   ASSERT_EQ(test::cli("demo --generate-only --scans 16 --beams 32 --columns 1024 --out " + dir.path.string()).code, 0);
-  const std::regex update(R"(run  (\d+)/16 scans)");
   std::size_t updates = 0, ahead = 0;
   std::string report;
   const Screen s = run_on_terminal(
@@ -138,9 +155,12 @@ TEST(TerminalProgress, TheBarCountsScansWhoseOutputIsWritten) {
       [&](const std::string& piece) {
         std::size_t said = 0;
         bool any = false;
-        for (std::sregex_iterator m(piece.begin(), piece.end(), update), end; m != end; ++m) {
-          said = std::stoul((*m)[1]);
-          any = true;
+        for (auto at = piece.find("run  "); at != std::string::npos; at = piece.find("run  ", at + 1)) {
+          std::size_t k = 0;
+          if (std::sscanf(piece.c_str() + at, "run  %zu/16 scans", &k) == 1) {
+            said = k;
+            any = true;
+          }
         }
         if (!any) return;
         ++updates;
