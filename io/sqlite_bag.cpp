@@ -43,8 +43,14 @@ SqliteBagReader::SqliteBagReader(const fs::path& file) : file_(file) {
     db_ = nullptr;
     fail(file, "cannot open as sqlite3 (" + why + ")");
   }
-  Statement check(db_, "SELECT count(*) FROM topics", file_);  // a random file fails here
-  if (sqlite3_step(check.s) != SQLITE_ROW) fail(file, std::string("unreadable (") + sqlite3_errmsg(db_) + ")");
+  try {
+    Statement check(db_, "SELECT count(*) FROM topics", file_);  // a random file fails here
+    if (sqlite3_step(check.s) != SQLITE_ROW) fail(file, std::string("unreadable (") + sqlite3_errmsg(db_) + ")");
+  } catch (...) {  // no destructor runs for a constructor that throws: close here
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
 }
 
 SqliteBagReader::~SqliteBagReader() { sqlite3_close(db_); }
@@ -91,14 +97,20 @@ SqliteBagWriter::SqliteBagWriter(const fs::path& file) : file_(file) {
     fail(file, "cannot create");
   }
   // rosbag2's schema version 4 tables (the columns readers use, and the NOT NULL ones around them).
-  exec("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
-       "INSERT INTO schema VALUES (4, 'cleanmap');"
-       "CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL, metadata TEXT NOT NULL);"
-       "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
-       "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL, type_description_hash TEXT NOT NULL);"
-       "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
-       "data BLOB NOT NULL);"
-       "CREATE INDEX timestamp_idx ON messages (timestamp ASC);");
+  try {
+    exec("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
+         "INSERT INTO schema VALUES (4, 'cleanmap');"
+         "CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL, metadata TEXT NOT NULL);"
+         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
+         "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL, type_description_hash TEXT NOT NULL);"
+         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
+         "data BLOB NOT NULL);"
+         "CREATE INDEX timestamp_idx ON messages (timestamp ASC);");
+  } catch (...) {
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
 }
 
 SqliteBagWriter::~SqliteBagWriter() { sqlite3_close(db_); }

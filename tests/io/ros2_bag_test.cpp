@@ -83,6 +83,8 @@ struct StorageCase {
   McapCompression compression;
 };
 
+void PrintTo(const StorageCase& c, std::ostream* os) { *os << c.name; }
+
 class Ros2Storage : public testing::TestWithParam<StorageCase> {};
 
 TEST_P(Ros2Storage, CloudsTimesAndOdometryPosesReadBack) {
