@@ -10,7 +10,6 @@
 #include "apps/run_inputs.hpp"
 #include "apps/settings.hpp"
 #include "io/cloud_file.hpp"
-#include "odometry/level_frame.hpp"
 #include "odometry/lidar_odometry.hpp"
 
 namespace cleanmap::app {
@@ -53,15 +52,10 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   nlohmann::json empty_scans = nlohmann::json::array();
   double reference_offset = 0.0;
   Progress progress("odometry", seq.size());
-  Eigen::Isometry3d level = Eigen::Isometry3d::Identity();  // as `run` levels its world frame
   for (std::size_t i = 0; i < seq.size(); ++i) {
     LoadedScan loaded = load_scan(seq, i);
     if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
-    if (i == 0 && cfg.level_first_scan) {
-      if (const auto r = level_rotation(loaded.scan.points)) level.linear() = *r;
-    }
     auto step = odom.register_scan(loaded.scan);
-    step.pose = level * step.pose;
     reference_offset = step.reference_offset;
     stamped.push_back({loaded.scan.stamp + step.reference_offset, step.pose});
     seconds.push_back(step.seconds);

@@ -15,7 +15,6 @@
 #include "apps/progress.hpp"
 #include "apps/run_summary.hpp"
 #include "odometry/deskew.hpp"
-#include "odometry/level_frame.hpp"
 
 namespace cleanmap::app {
 namespace fs = std::filesystem;
@@ -167,12 +166,8 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   t = Clock::now();
   if (odom) {
     std::lock_guard<std::mutex> lock(odom_mutex);
-    if (index == 0 && cfg.odometry.level_first_scan) {
-      if (const auto r = level_rotation(loaded.scan.points)) level.linear() = *r;
-      else std::fprintf(stderr, "%s: level_first_scan: no dominant plane in the first scan; frame kept\n", opt.command.c_str());
-    }
     auto step = odom->register_scan(loaded.scan);
-    step.pose = level * step.pose;
+    if (index == 0 && !step.note.empty()) std::fprintf(stderr, "%s: first scan: %s\n", opt.command.c_str(), step.note.c_str());
     item->world = std::move(step.deskewed);
     item->world.points = (step.pose.cast<float>() * item->world.points).eval();
     item->world.pose = step.pose;

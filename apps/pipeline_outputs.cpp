@@ -47,8 +47,8 @@ void PipelineRun::map_scan(ScoredScan& r) {
 void PipelineRun::feed_back(const ScoredScan& r) {
   if (!odom || !cfg.odometry.exclude_dynamic) return;
   std::vector<Eigen::Vector3d> moving;
-  for (std::size_t i = 0; i < r.scan.size(); ++i) {  // back into the odometry's own frame
-    if (r.dynamic[i]) moving.push_back(level.inverse() * r.scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
+  for (std::size_t i = 0; i < r.scan.size(); ++i) {
+    if (r.dynamic[i]) moving.push_back(r.scan.points.col(static_cast<Eigen::Index>(i)).cast<double>());
   }
   if (moving.empty()) return;
   std::lock_guard<std::mutex> lock(odom_mutex);

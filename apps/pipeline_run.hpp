@@ -71,7 +71,6 @@ struct PipelineRun {
 
   std::unique_ptr<LidarOdometry> odom;
   std::mutex odom_mutex;  // stage 1 registers, stage 4 (online) or pass 1 (offline) feeds back
-  Eigen::Isometry3d level = Eigen::Isometry3d::Identity();  // the odometry's world, levelled
   std::unique_ptr<OctoMapBuilder> octo;
   std::unique_ptr<VisibilityMap> visibility;
   SpatiotemporalScorer scorer;

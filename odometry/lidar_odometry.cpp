@@ -7,6 +7,7 @@
 #include "io/error.hpp"
 #include "geometry/voxel_downsample.hpp"
 #include "odometry/deskew.hpp"
+#include "odometry/level_frame.hpp"
 #include "odometry/point_to_plane_icp.hpp"
 #include "odometry/preprocess.hpp"
 
@@ -84,6 +85,12 @@ OdometryStep LidarOdometry::register_scan(const Scan& scan) {
   // Constant velocity: the last step's motion, scaled to this step's duration.
   Eigen::Isometry3d prediction = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d last_step = Eigen::Isometry3d::Identity();  // in the sensor frame, per dt
+  if (k == 0 && config_.level_first_scan) {
+    // The first pose is the levelling rotation: the map is built in the levelled world, so
+    // every later pose, and every point the scorer feeds back, is in that one frame.
+    if (const auto r = level_rotation(scan.points)) prediction.linear() = *r;
+    else step.note = "level_first_scan: no dominant plane in the first scan; frame kept";
+  }
   if (k == 1) prediction = poses_[0];
   if (k > 1) {
     prediction = interpolate_pose(poses_[k - 2], poses_[k - 1], 1.0 + dt / dt_prev);
