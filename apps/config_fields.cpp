@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "io/yaml_file.hpp"
+
 namespace cleanmap::app {
 
 // Every section any command reads; a preset may carry all of them.
@@ -42,13 +44,7 @@ std::string key_name(const YAML::Node& key, const std::filesystem::path& file) {
 }
 
 YAML::Node load_preset(const std::filesystem::path& file) {
-  if (!std::filesystem::is_regular_file(file)) fail(file, "no such config file");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    fail(file, std::string("invalid YAML: ") + e.what());
-  }
+  const YAML::Node root = load_yaml_file(file, "no such config file");
   if (root.IsNull()) return YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) fail(file, "top level must be a map of sections");
   for (const auto& kv : root) {

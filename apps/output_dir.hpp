@@ -16,6 +16,19 @@ namespace cleanmap::app {
 // Creates the output folder (and subfolders), failing with a clear message when it cannot.
 void make_dirs(const std::filesystem::path& dir);
 
+// Removes a file or a folder (with its contents) when the scope ends, however it ends: the
+// report's data file, the offline pass's spills. An empty path removes nothing.
+struct RemovedAtExit {
+  std::filesystem::path path;
+  explicit RemovedAtExit(std::filesystem::path p) : path(std::move(p)) {}
+  RemovedAtExit(const RemovedAtExit&) = delete;
+  RemovedAtExit& operator=(const RemovedAtExit&) = delete;
+  ~RemovedAtExit() {
+    std::error_code ignored;
+    if (!path.empty()) std::filesystem::remove_all(path, ignored);
+  }
+};
+
 // Writes OUT/summary.json atomically (temporary file, then rename): a reader never sees half a
 // summary, and "complete": true appears only once everything else is written.
 void write_summary(const std::filesystem::path& out, nlohmann::json summary, bool complete,

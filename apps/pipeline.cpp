@@ -233,13 +233,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
     std::fprintf(stderr, "%s: platform mask: none learnt: %s\n", opt.command.c_str(), run.mask.note.c_str());
   }
   // The spills go whatever happens: a run stopped by bad input leaves no half of them behind.
-  struct RemoveAtExit {
-    fs::path dir;
-    ~RemoveAtExit() {
-      std::error_code ignored;
-      if (!dir.empty()) fs::remove_all(dir, ignored);
-    }
-  } spills{run.offline ? run.spill_dir : fs::path()};
+  const RemovedAtExit spills(run.offline ? run.spill_dir : fs::path());
   if (run.offline) make_dirs(run.spill_dir);
 
   Progress progress(run.offline ? opt.command + " (pass 1 of 2)" : opt.command, run.seq.size());

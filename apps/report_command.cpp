@@ -73,19 +73,13 @@ void make_report(const fs::path& out, fs::path ref, const std::string& python, c
   if (!fs::exists(script)) fail(script, "report script not found (give --script)");
   // The numbers reach the script through a file that lives only as long as this call (it was
   // left behind as a 7.9 MB report/data.json).
-  struct RemoveAtExit {
-    fs::path file;
-    ~RemoveAtExit() {
-      std::error_code ignored;
-      fs::remove(file, ignored);
-    }
-  } data{out / "report" / ".data.json"};
+  const RemovedAtExit data(out / "report" / ".data.json");
   {
-    std::ofstream f(data.file);
-    if (!f) fail(data.file, "cannot create file");
+    std::ofstream f(data.path);
+    if (!f) fail(data.path, "cannot create file");
     f << d.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   }
-  std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "' '" + data.file.string() + "'";
+  std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "' '" + data.path.string() + "'";
   if (!viewer.empty()) cmd += " '" + viewer.string() + "'";
   if (std::system(cmd.c_str()) != 0) {
     fail(script, "failed (it needs Debian's python3-matplotlib: apt-get install python3-matplotlib)");

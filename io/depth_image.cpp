@@ -1,7 +1,6 @@
 #include "io/depth_image.hpp"
 
 #include <png.h>
-#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <csetjmp>
@@ -13,6 +12,7 @@
 
 #include "io/error.hpp"
 #include "io/label_file.hpp"
+#include "io/yaml_file.hpp"
 
 namespace cleanmap {
 namespace fs = std::filesystem;
@@ -119,13 +119,7 @@ void write_label_mask(const fs::path& file, const std::vector<std::uint32_t>& la
 }
 
 DepthIntrinsics read_depth_intrinsics(const fs::path& file) {
-  if (!fs::is_regular_file(file)) fail(file, "no such camera file (fx, fy, cx, cy, depth_scale in YAML)");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    fail(file, std::string("is not valid YAML (") + e.what() + ")");
-  }
+  const YAML::Node root = load_yaml_file(file, "no such camera file (fx, fy, cx, cy, depth_scale in YAML)");
   if (!root.IsMap()) fail(file, "is not a map of camera settings");
   DepthIntrinsics k;
   for (const auto& kv : root) {

@@ -1,6 +1,5 @@
 #include "io/ros2_bag.hpp"
 
-#include <yaml-cpp/yaml.h>
 #include <zstd.h>
 
 #include <fstream>
@@ -12,6 +11,7 @@
 #include "io/raw_cloud.hpp"
 #include "io/ros2_messages.hpp"
 #include "io/sqlite_bag.hpp"
+#include "io/yaml_file.hpp"
 
 namespace cleanmap {
 namespace fs = std::filesystem;
@@ -57,12 +57,7 @@ bool is_ros2_bag(const fs::path& folder) {
 Ros2BagInfo read_ros2_metadata(const fs::path& folder) {
   const fs::path file = folder / "metadata.yaml";
   if (!fs::is_regular_file(file)) fail(folder, "no metadata.yaml: not a ROS 2 bag folder (`ros2 bag reindex` writes one)");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    fail(file, std::string("is not valid YAML (") + e.what() + ")");
-  }
+  const YAML::Node root = load_yaml_file(file, "no such file");
   Ros2BagInfo info;
   try {
     const YAML::Node b = child(root, "rosbag2_bagfile_information", file);
