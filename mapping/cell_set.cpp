@@ -6,6 +6,7 @@ namespace cleanmap {
 namespace {
 
 constexpr std::uint16_t kLow = (1u << 5) - 1;
+using cell_set_detail::tile_id;
 
 std::uint64_t compact(std::uint64_t v) {
   v &= 0x1249249249249249ull;
@@ -17,32 +18,14 @@ std::uint64_t compact(std::uint64_t v) {
   return v;
 }
 
-std::uint64_t tile_id(const CellSet::Key& k) {
-  return static_cast<std::uint64_t>(k[0] >> 5) << 22 | static_cast<std::uint64_t>(k[1] >> 5) << 11 | (k[2] >> 5);
-}
-
 }  // namespace
 
 namespace cell_set_detail {
-std::uint32_t local_morton(const CellSet::Key& k) {
-  return static_cast<std::uint32_t>(morton_code(k[0] & kLow, k[1] & kLow, k[2] & kLow));
-}
 CellSet::Key local_cell(std::uint32_t m) {
   return {static_cast<std::uint16_t>(compact(m)), static_cast<std::uint16_t>(compact(m >> 1)),
           static_cast<std::uint16_t>(compact(m >> 2))};
 }
 }  // namespace cell_set_detail
-
-std::int64_t CellSet::find(const Key& k) const {
-  const auto id = tile_id(k);
-  if (id != last_id_) {
-    const auto it = index_.find(id);
-    if (it == index_.end()) return -1;
-    last_id_ = id;
-    last_ = it->second;
-  }
-  return last_;
-}
 
 std::size_t CellSet::tile_for(const Key& k) {
   auto t = find(k);
@@ -58,17 +41,6 @@ std::size_t CellSet::tile_for(const Key& k) {
     last_ = t;
   }
   return static_cast<std::size_t>(t);
-}
-
-bool CellSet::insert(const Key& k) {
-  const auto t = tile_for(k);
-  const auto m = cell_set_detail::local_morton(k);
-  auto& word = tiles_[t].bits[m >> 6];
-  const std::uint64_t bit = 1ull << (m & 63);
-  if (word & bit) return false;
-  word |= bit;
-  ++size_;
-  return true;
 }
 
 const CellSet::Tile* CellSet::tile_of(const Key& k) const {
@@ -93,13 +65,6 @@ void CellSet::for_each_also_in(const CellSet& in, const CellSet& out,
       }
     }
   }
-}
-
-bool CellSet::contains(const Key& k) const {
-  const auto t = find(k);
-  if (t < 0) return false;
-  const auto m = cell_set_detail::local_morton(k);
-  return (tiles_[static_cast<std::size_t>(t)].bits[m >> 6] >> (m & 63)) & 1u;
 }
 
 }  // namespace cleanmap

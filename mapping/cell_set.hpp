@@ -8,6 +8,8 @@
 
 #include <tsl/robin_map.h>
 
+#include "geometry/voxel_key.hpp"
+
 namespace cleanmap {
 
 // A set of OctoMap cells (16-bit keys per axis) for one scan's update: a bitmap per 32^3 tile,
@@ -48,12 +50,80 @@ class CellSet {
   mutable std::uint64_t last_id_ = ~0ull;
   mutable std::int64_t last_ = -1;
   std::size_t size_ = 0;
+
+ public:
+  // Lookups with a tile cache of their own: one Reader per thread, many threads on one set
+  // (contains() caches in the set itself).
+  class Reader {
+   public:
+    explicit Reader(const CellSet& set) : set_(set) { id_.fill(~0ull); }
+    bool contains(const Key& k);
+
+   private:
+    // Direct-mapped by tile: the rays of a scan fan out from one origin, so a few tiles (those
+    // near the sensor) are asked again and again between the others.
+    static constexpr std::size_t kSlots = 64;
+    const CellSet& set_;
+    std::array<std::uint64_t, kSlots> id_;
+    std::array<const Tile*, kSlots> tile_{};
+  };
 };
 
 namespace cell_set_detail {
-std::uint32_t local_morton(const CellSet::Key& k);  // of the low 5 bits of each axis
-CellSet::Key local_cell(std::uint32_t morton);       // inverse
+// Of the low 5 bits of each axis.
+inline std::uint32_t local_morton(const CellSet::Key& k) {
+  constexpr std::uint16_t kLow = (1u << 5) - 1;
+  return static_cast<std::uint32_t>(morton_code(k[0] & kLow, k[1] & kLow, k[2] & kLow));
+}
+CellSet::Key local_cell(std::uint32_t morton);  // inverse
+inline std::uint64_t tile_id(const CellSet::Key& k) {
+  return static_cast<std::uint64_t>(k[0] >> 5) << 22 | static_cast<std::uint64_t>(k[1] >> 5) << 11 | (k[2] >> 5);
+}
 }  // namespace cell_set_detail
+
+// Inline: a ray's walk asks these once per cell it crosses.
+inline std::int64_t CellSet::find(const Key& k) const {
+  const auto id = cell_set_detail::tile_id(k);
+  if (id != last_id_) {
+    const auto it = index_.find(id);
+    if (it == index_.end()) return -1;
+    last_id_ = id;
+    last_ = it->second;
+  }
+  return last_;
+}
+
+inline bool CellSet::insert(const Key& k) {
+  std::int64_t t = find(k);
+  if (t < 0) t = static_cast<std::int64_t>(tile_for(k));  // a new tile: rare
+  const auto m = cell_set_detail::local_morton(k);
+  auto& word = tiles_[static_cast<std::size_t>(t)].bits[m >> 6];
+  const std::uint64_t bit = 1ull << (m & 63);
+  if (word & bit) return false;
+  word |= bit;
+  ++size_;
+  return true;
+}
+
+inline bool CellSet::contains(const Key& k) const {
+  const auto t = find(k);
+  if (t < 0) return false;
+  const auto m = cell_set_detail::local_morton(k);
+  return (tiles_[static_cast<std::size_t>(t)].bits[m >> 6] >> (m & 63)) & 1u;
+}
+
+inline bool CellSet::Reader::contains(const Key& k) {
+  const auto id = cell_set_detail::tile_id(k);
+  const std::size_t slot = (k[0] >> 5 & 3) | (k[1] >> 5 & 3) << 2 | (k[2] >> 5 & 3) << 4;
+  if (id_[slot] != id) {
+    id_[slot] = id;
+    tile_[slot] = set_.tile_of(k);
+  }
+  const Tile* tile = tile_[slot];
+  if (tile == nullptr) return false;
+  const auto m = cell_set_detail::local_morton(k);
+  return (tile->bits[m >> 6] >> (m & 63)) & 1u;
+}
 
 template <typename F>
 void CellSet::for_each_in_tree_order(F&& visit) const {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -29,9 +30,24 @@ namespace cleanmap {
 // deskew residue where scans are not deskewed (up to speed x sweep time). 0.3 m by default.
 // Rays longer than `max_range` are not cast: a beam's footprint grows with range (3 mrad:
 // 0.3 m at 100 m) and no longer fits a cell.
+// A cell is coarse next to what it holds: a car's roof at 1.5 m fills the bottom of its
+// [1.4, 1.6) cell, and rays that pass over the roof to the ground behind cross the cell's top
+// in every scan that does not hit the roof (on the static synthetic street, 517 of its 912
+// false points). So each cell keeps the box its hits filled over the whole log, and along an
+// axis where that box is thin (under half a cell: the roof's z, a wall's normal) a ray counts
+// as crossing the cell only where it reaches the hits' level, within `extent_margin`: what
+// blurs a ray against another scan's hits (pose error between scans, a few cm; range noise is
+// in the box already, as every hit of every scan is). A ray that reaches the level of a thin
+// axis counts, whatever the others: the hits of a far car are a row or two, thin along z as
+// well as along its side's normal, and rays between the rows still pass through its side.
+// Boxes against whole cells, bench/quality.sh: synthetic street 0.948 -> 0.951, SemanticKITTI
+// 01 0.649 -> 0.651, Pandar64 0.450 -> 0.454 (SA 94.61 -> 94.70), the rest unchanged.
+// Requiring the whole box instead (every axis) lost recall on the sparse hits of movers
+// (SemanticKITTI 01 0.618, synthetic 0.940).
 struct VisibilityConfig {
   double resolution = 0.2;  // m
   double margin = 0.3;      // m
+  double extent_margin = 0.05;  // m; half a resolution or more: whole cells, as without boxes
   double max_range = 80.0;  // m
   // The weights of the OctoMap (MapConfig: the pipeline passes its own).
   double prob_hit = 0.7;
@@ -62,7 +78,8 @@ class VisibilityMap {
   // add_rays in two halves: casting (read-only, scans side by side) and counting (one at a
   // time).
   struct ScanRays {
-    CellSet crossed, hit;
+    CellSet crossed;  // hit cells (at any time) a ray passed through within their box
+    CellSet hit;      // cells this scan hit
   };
   ScanRays cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const;
   void count(const ScanRays& rays);
@@ -73,6 +90,8 @@ class VisibilityMap {
 
   struct Counts {
     std::uint16_t hits = 0, crossed = 0;
+    // The box the log's hits filled, in 256ths of the cell from its low corner (empty: lo > hi).
+    std::array<std::uint8_t, 3> lo{255, 255, 255}, hi{0, 0, 0};
   };
   Counts counts(const Eigen::Vector3f& p) const;  // zero for a cell never hit
   std::size_t cells() const { return cells_.size(); }
@@ -83,6 +102,10 @@ class VisibilityMap {
   std::unique_ptr<octomap::OcTree> grid_;  // empty: its key arithmetic only
   tsl::robin_map<VoxelKey, Counts, VoxelKeyHash> cells_;
   CellSet hit_cells_;  // the same cells as bits: most crossed cells were never hit, one bit says so
+  // Whether the segment (t in [t0, t1] along from + dir t) reaches, within extent_margin, the
+  // level of the hits of cell `k` (OctoMap key) along an axis where they are thin.
+  bool passes_hits(const CellSet::Key& k, const Eigen::Vector3d& from, const Eigen::Vector3d& dir, double t0,
+                   double t1) const;
 };
 
 }  // namespace cleanmap

@@ -111,12 +111,72 @@ TEST(VisibilityMap, AScanThatHitsACellDoesNotAlsoCrossIt) {
   EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).crossed, 0);
 }
 
+// A flat roof in the bottom of its cell: hits at z = 1.41 over the whole of x in [5.0, 5.2),
+// y in [0, 0.2), the cell's z range [1.4, 1.6).
+Eigen::Matrix3Xf roof() {
+  Eigen::Matrix3Xf m(3, 100);
+  for (int i = 0; i < 100; ++i) m.col(i) = Eigen::Vector3f(5.01f + 0.02f * (i % 10), 0.01f + 0.02f * (i / 10), 1.41f);
+  return m;
+}
+
+TEST(VisibilityMap, ARayOverARoofDoesNotCrossItsCell) {
+  // The sensor at 1.5 m looks over the roof (hit once, by scan 0) at a wall 9 m away: its ray
+  // passes the roof's cell at z = 1.5, 9 cm above the hits. With whole cells that counted as
+  // seeing through the roof; with the hits' box it does not, and a ray that comes down to the
+  // roof's level (1.417 m there) does.
+  const Eigen::Vector3d origin(0.1, 0.1, 1.5);
+  for (const double extent : {0.05, 0.1}) {
+    VisibilityConfig c;
+    c.extent_margin = extent;
+    VisibilityMap map(c);
+    map.add_hits(roof());
+    const auto over = one(9.1f, 0.1f, 1.5f), down = one(9.1f, 0.1f, 1.35f);
+    for (int s = 0; s < 3; ++s) map.add_hits(over);
+    map.add_hits(down);
+    for (int s = 0; s < 3; ++s) map.add_rays(over, origin);
+    EXPECT_EQ(map.counts({5.1f, 0.1f, 1.41f}).crossed, extent >= 0.1 ? 3 : 0) << extent;  // 0.1: whole cells
+    map.add_rays(down, origin);
+    EXPECT_EQ(map.counts({5.1f, 0.1f, 1.41f}).crossed, extent >= 0.1 ? 4 : 1) << extent;
+  }
+  // One scan with both rays: the ray that reaches the roof's level counts the cell once when
+  // it walks there; walked after the ray over the roof, it stops at the cells they share
+  // (walk_ray's early stop) before it reaches the roof, and the cell is left uncounted. That
+  // errs towards static, the side a clean map can afford.
+  for (const bool down_first : {true, false}) {
+    VisibilityMap map{VisibilityConfig{}};
+    map.add_hits(roof());
+    Eigen::Matrix3Xf both(3, 2);
+    both.col(down_first ? 0 : 1) = Eigen::Vector3f(9.1f, 0.1f, 1.35f);
+    both.col(down_first ? 1 : 0) = Eigen::Vector3f(9.1f, 0.1f, 1.5f);
+    map.add_hits(both);
+    map.add_rays(both, origin);
+    EXPECT_EQ(map.counts({5.1f, 0.1f, 1.41f}).crossed, down_first ? 1 : 0) << down_first;
+  }
+}
+
+TEST(VisibilityMap, ARayBetweenTheRowsOfAFarCarStillCrossesItsSide) {
+  // One row of a car's side (y = 0.1, z = 1.5, along x), thin along y and z: a ray through the
+  // side 8 cm above the row, between two rows, passes the side's level along y and counts.
+  VisibilityMap map{VisibilityConfig{}};
+  Eigen::Matrix3Xf row(3, 10);
+  for (int i = 0; i < 10; ++i) row.col(i) = Eigen::Vector3f(5.01f + 0.02f * i, 0.1f, 1.5f);
+  map.add_hits(row);
+  const Eigen::Vector3d origin(5.1, -8.0, 1.58);
+  const auto wall = one(5.1f, 9.0f, 1.58f);
+  map.add_hits(wall);
+  map.add_rays(wall, origin);
+  EXPECT_EQ(map.counts({5.1f, 0.1f, 1.5f}).crossed, 1);
+}
+
 TEST(VisibilityMap, BadSettingsAreNamed) {
   VisibilityConfig c;
   c.margin = -1;
   EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
   c = {};
   c.resolution = std::nan("");
+  EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
+  c = {};
+  c.extent_margin = -0.01;
   EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
 }
 
