@@ -93,10 +93,10 @@ void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector
 }
 
 VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const {
-  // The scan's crossed cells first, each once: its rays converge on one origin, and carve_ray
-  // (from the far end) stops where an earlier ray of the scan crossed the rest of the way.
-  // A hit cell counts as crossed once a ray passed through its box; until then later rays
-  // keep looking at it (walk_ray's `settled`).
+  // The scan's crossed cells, each once: its rays converge on one origin, and walk_ray (from
+  // the far end) stops where an earlier ray of the scan walked the rest of the way. A hit cell
+  // counts as crossed once a ray reached its hits' level (passes_hits); until then it is not
+  // settled, and later rays keep looking at it.
   ScanRays out;
   const auto keep = voxel_downsample(points, config_.resolution);
   octomap::OcTreeKey key;
@@ -105,7 +105,6 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
   }
   CellSet walked;
   CellSet::Reader ever_hit(hit_cells_);
-  const bool whole_cells = config_.extent_margin >= config_.resolution;
   for (const auto i : keep) {
     const Eigen::Vector3d ray = points.col(i).cast<double>() - origin;
     const double range = ray.norm();
@@ -113,8 +112,9 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
     const Eigen::Vector3d from = origin + ray * ((range - config_.margin) / range), dir = origin - from;
     walk_ray(*grid_, from, origin, true, walked, [&](const CellSet::Key& k, double t0, double t1) {
       if (!ever_hit.contains(k) || out.crossed.contains(k)) return true;
-      if (whole_cells || passes_hits(k, from, dir, t0, t1)) out.crossed.insert(k);
-      return out.crossed.contains(k);
+      if (!passes_hits(k, from, dir, t0, t1)) return false;
+      out.crossed.insert(k);
+      return true;
     });
   }
   return out;

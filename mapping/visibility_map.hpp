@@ -47,7 +47,7 @@ namespace cleanmap {
 struct VisibilityConfig {
   double resolution = 0.2;  // m
   double margin = 0.3;      // m
-  double extent_margin = 0.05;  // m; half a resolution or more: whole cells, as without boxes
+  double extent_margin = 0.05;  // m; a resolution or more: whole cells, as without boxes
   double max_range = 80.0;  // m
   // The weights of the OctoMap (MapConfig: the pipeline passes its own).
   double prob_hit = 0.7;

@@ -122,7 +122,7 @@ Eigen::Matrix3Xf roof() {
 TEST(VisibilityMap, ARayOverARoofDoesNotCrossItsCell) {
   // The sensor at 1.5 m looks over the roof (hit once, by scan 0) at a wall 9 m away: its ray
   // passes the roof's cell at z = 1.5, 9 cm above the hits. With whole cells that counted as
-  // seeing through the roof; with the hits' box it does not, and a ray that comes down to the
+  // seeing through the roof; with the hits' level it does not, and a ray that comes down to the
   // roof's level (1.417 m there) does.
   const Eigen::Vector3d origin(0.1, 0.1, 1.5);
   for (const double extent : {0.05, 0.1}) {
@@ -134,7 +134,8 @@ TEST(VisibilityMap, ARayOverARoofDoesNotCrossItsCell) {
     for (int s = 0; s < 3; ++s) map.add_hits(over);
     map.add_hits(down);
     for (int s = 0; s < 3; ++s) map.add_rays(over, origin);
-    EXPECT_EQ(map.counts({5.1f, 0.1f, 1.41f}).crossed, extent >= 0.1 ? 3 : 0) << extent;  // 0.1: whole cells
+    // Within 0.1 m of the roof's level, the ray 9 cm over it reaches it.
+    EXPECT_EQ(map.counts({5.1f, 0.1f, 1.41f}).crossed, extent >= 0.1 ? 3 : 0) << extent;
     map.add_rays(down, origin);
     EXPECT_EQ(map.counts({5.1f, 0.1f, 1.41f}).crossed, extent >= 0.1 ? 4 : 1) << extent;
   }
