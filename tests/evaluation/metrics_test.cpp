@@ -163,6 +163,20 @@ TEST(MapMetrics, DynamicMapBenchmarkScoresOfHandMadeClouds) {
   EXPECT_DOUBLE_EQ(s.da, 75.0);
   EXPECT_NEAR(s.aa, std::sqrt(87.5 * 75.0), 1e-12);
   EXPECT_NEAR(s.ha, 2 * 87.5 * 75.0 / (87.5 + 75.0), 1e-12);
+  EXPECT_DOUBLE_EQ(s.da_ceiling, 100.0);  // no dynamic point lies near a static one
+}
+
+TEST(MapMetrics, TheCeilingCountsDynamicPointsNoOutputCanDropWithoutAStaticNeighbour) {
+  // Static points at x = 0..3; dynamic ones at 0.04 (within 5 cm of a static point: any output
+  // that keeps the static point keeps it), 1.06 (just beyond) and 10 (alone).
+  Eigen::Matrix3Xf gt(3, 7);
+  gt << 0, 1, 2, 3, 0.04f, 1.06f, 10, Eigen::RowVectorXf::Zero(7), Eigen::RowVectorXf::Zero(7);
+  const std::vector<std::uint8_t> dyn{0, 0, 0, 0, 1, 1, 1};
+  const auto s = score_map(gt, dyn, gt(Eigen::all, std::vector<int>{0, 1, 2, 3}));
+  EXPECT_DOUBLE_EQ(s.sa, 100.0);
+  EXPECT_NEAR(s.da, 200.0 / 3, 1e-12);
+  EXPECT_NEAR(s.da_ceiling, s.da, 1e-12);  // the static truth as output reaches the ceiling
+  EXPECT_NEAR(score_map(gt, dyn, gt, 0.07).da_ceiling, 100.0 / 3, 1e-12);  // 7 cm: 1.06 shadowed too
 }
 
 }  // namespace
