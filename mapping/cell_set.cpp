@@ -37,8 +37,8 @@ std::size_t CellSet::tile_for(const Key& k) {
     t = static_cast<std::int64_t>(tiles_.size());
     tiles_.push_back(tile);
     index_.emplace(tile_id(k), static_cast<std::uint32_t>(t));
-    last_id_ = tile_id(k);
-    last_ = t;
+    cache_id_[cell_set_detail::tile_slot(k)] = tile_id(k) + 1;
+    cache_tile_[cell_set_detail::tile_slot(k)] = static_cast<std::uint32_t>(t);
   }
   return static_cast<std::size_t>(t);
 }

@@ -46,9 +46,11 @@ class CellSet {
 
   tsl::robin_map<std::uint64_t, std::uint32_t> index_;  // tile coordinates -> tiles_
   std::vector<Tile> tiles_;
-  // Cache of the last tile looked up: makes even contains() mutate, so one thread at a time.
-  mutable std::uint64_t last_id_ = ~0ull;
-  mutable std::int64_t last_ = -1;
+  // Tiles looked up lately, direct-mapped as in Reader (tile id + 1, 0 = empty): makes even
+  // contains() mutate, so one thread at a time. One slot (the last tile) left a ray's walk a
+  // hash probe at every tile border; its rays fan out from one origin and keep coming back.
+  mutable std::array<std::uint64_t, 64> cache_id_{};
+  mutable std::array<std::uint32_t, 64> cache_tile_{};
   std::size_t size_ = 0;
 
  public:
@@ -62,35 +64,52 @@ class CellSet {
    private:
     // Direct-mapped by tile: the rays of a scan fan out from one origin, so a few tiles (those
     // near the sensor) are asked again and again between the others.
-    static constexpr std::size_t kSlots = 64;
     const CellSet& set_;
-    std::array<std::uint64_t, kSlots> id_;
-    std::array<const Tile*, kSlots> tile_{};
+    std::array<std::uint64_t, 64> id_;
+    std::array<const Tile*, 64> tile_{};
   };
 };
 
 namespace cell_set_detail {
-// Of the low 5 bits of each axis.
+// The 5 bits of an axis spread to every third bit, by table: a ray's walk asks for three
+// of these per cell (its walked set, the hit set, the crossed set), and the shift-and-mask
+// spread of morton_code was the largest share of VisibilityMap::cast's instructions.
+inline constexpr std::array<std::uint16_t, 32> kSpread5 = [] {
+  std::array<std::uint16_t, 32> t{};
+  for (std::uint32_t v = 0; v < 32; ++v) {
+    std::uint32_t s = 0;
+    for (int b = 0; b < 5; ++b) s |= ((v >> b) & 1u) << (3 * b);
+    t[v] = static_cast<std::uint16_t>(s);
+  }
+  return t;
+}();
+// Of the low 5 bits of each axis (morton_code of them).
 inline std::uint32_t local_morton(const CellSet::Key& k) {
   constexpr std::uint16_t kLow = (1u << 5) - 1;
-  return static_cast<std::uint32_t>(morton_code(k[0] & kLow, k[1] & kLow, k[2] & kLow));
+  return static_cast<std::uint32_t>(kSpread5[k[0] & kLow]) | static_cast<std::uint32_t>(kSpread5[k[1] & kLow]) << 1 |
+         static_cast<std::uint32_t>(kSpread5[k[2] & kLow]) << 2;
 }
 CellSet::Key local_cell(std::uint32_t morton);  // inverse
 inline std::uint64_t tile_id(const CellSet::Key& k) {
   return static_cast<std::uint64_t>(k[0] >> 5) << 22 | static_cast<std::uint64_t>(k[1] >> 5) << 11 | (k[2] >> 5);
 }
+// The cache slot of a tile (of 64): the low 2 bits of each tile coordinate.
+inline std::size_t tile_slot(const CellSet::Key& k) {
+  return static_cast<std::size_t>((k[0] >> 5 & 3) | (k[1] >> 5 & 3) << 2 | (k[2] >> 5 & 3) << 4);
+}
 }  // namespace cell_set_detail
 
 // Inline: a ray's walk asks these once per cell it crosses.
 inline std::int64_t CellSet::find(const Key& k) const {
-  const auto id = cell_set_detail::tile_id(k);
-  if (id != last_id_) {
-    const auto it = index_.find(id);
+  const auto id = cell_set_detail::tile_id(k) + 1;
+  const auto slot = cell_set_detail::tile_slot(k);
+  if (cache_id_[slot] != id) {
+    const auto it = index_.find(id - 1);
     if (it == index_.end()) return -1;
-    last_id_ = id;
-    last_ = it->second;
+    cache_id_[slot] = id;
+    cache_tile_[slot] = it->second;
   }
-  return last_;
+  return cache_tile_[slot];
 }
 
 inline bool CellSet::insert(const Key& k) {
@@ -114,7 +133,7 @@ inline bool CellSet::contains(const Key& k) const {
 
 inline bool CellSet::Reader::contains(const Key& k) {
   const auto id = cell_set_detail::tile_id(k);
-  const std::size_t slot = (k[0] >> 5 & 3) | (k[1] >> 5 & 3) << 2 | (k[2] >> 5 & 3) << 4;
+  const std::size_t slot = cell_set_detail::tile_slot(k);
   if (id_[slot] != id) {
     id_[slot] = id;
     tile_[slot] = set_.tile_of(k);

@@ -40,6 +40,19 @@ TEST(CellSet, VisitsWhatIsInOneSetAndNotTheOther) {
   EXPECT_EQ(visited.size() <= tu.size(), true);
 }
 
+TEST(CellSet, TheTableMortonOfATileIsTheInterleaveOfItsCells) {
+  for (std::uint16_t x = 0; x < 32; ++x) {
+    for (std::uint16_t y = 0; y < 32; ++y) {
+      for (std::uint16_t z = 0; z < 32; ++z) {
+        const CellSet::Key k{static_cast<std::uint16_t>(x + 96), static_cast<std::uint16_t>(y + 32 * 7), z};
+        const auto m = cell_set_detail::local_morton(k);
+        ASSERT_EQ(m, morton_code(x, y, z));
+        ASSERT_EQ(cell_set_detail::local_cell(m), (CellSet::Key{x, y, z}));
+      }
+    }
+  }
+}
+
 TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
   VisibilityConfig c;
   c.resolution = 0.1;
