@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# CPU time (user + system, all threads, /usr/bin/time) of two `cleanmap run` set-ups on the
+# same 131k-point synthetic stream, runs interleaved (A, B, A, B, ...) so that this VM's
+# drift (+-20% within an hour) hits both alike; prints each one's median and the ratio B/A.
+# A set-up is a build folder, optionally with run options after a colon:
+#   bash bench/compare_cpu.sh A B [runs] [scans]
+#   bash bench/compare_cpu.sh /tmp/old/build build 5        # two builds, offline
+#   bash bench/compare_cpu.sh "build:--online" build 5      # offline against online
+set -euo pipefail
+a="$1"; b="$2"; runs="${3:-5}"; scans="${4:-60}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+"${b%%:*}/apps/cleanmap" demo --generate-only --overwrite --scans "$scans" --columns 2368 --out "$work/demo" > /dev/null 2>&1
+cpu() {  # cpu SETUP: CPU seconds of one run
+  local build="${1%%:*}" opts=""
+  [ "$build" != "$1" ] && opts="${1#*:}"
+  # shellcheck disable=SC2086
+  /usr/bin/time -f "%U %S" -o "$work/t" "$build/apps/cleanmap" run --overwrite --input "$work/demo/sequence" \
+    --out "$work/run" $opts > /dev/null 2>&1 || { echo "compare_cpu: run with $1 failed" >&2; exit 1; }
+  awk '{print $1 + $2}' "$work/t"
+}
+for r in $(seq 1 "$runs"); do
+  echo "A $(cpu "$a")" >> "$work/cpu"
+  echo "B $(cpu "$b")" >> "$work/cpu"
+  echo "compare_cpu: pair $r of $runs done" >&2
+done
+/usr/bin/python3 - "$work/cpu" "$scans" "$a" "$b" <<'PY'
+import statistics, sys
+d = {"A": [], "B": []}
+for line in open(sys.argv[1]):
+    k, v = line.split(); d[k].append(float(v))
+scans = int(sys.argv[2])
+for k, name in (("A", sys.argv[3]), ("B", sys.argv[4])):
+    m = statistics.median(d[k])
+    print(f"{k} ({name}): median {m:.2f} s CPU, {1e3 * m / scans:.0f} ms/scan; runs " + " ".join(f"{v:.2f}" for v in d[k]))
+print(f"B/A: {statistics.median(d['B']) / statistics.median(d['A']):.3f}")
+PY
