@@ -5,6 +5,13 @@
 // `cleanmap eval map --gt OUT/gt_cloud.pcd --output RUN/map_static.pcd` scores the result.
 //
 //   dynamicmap_layout --input SEQ --out DIR [--poses FILE] [--speed 0.5] [--box-margin 0.1]
+//                     [--time-from-azimuth]
+//
+// With --time-from-azimuth (scans without per-point time, as a preset with time_from_azimuth
+// runs them), every point is placed with the pose at its own time (times from azimuth,
+// relative to the sweep's middle, which `cleanmap run`'s poses refer to; constant velocity
+// between neighbouring poses): the poses of a deskewing run fit deskewed scans, and raw ones
+// put on them smear by up to half the sweep's travel (0.3 m at 6 m/s).
 //
 // The recording platform (points fixed in the sensor frame, learnt as `cleanmap run` does) is
 // left out, as the benchmark's own sequences have the ego vehicle removed. Non-finite points
@@ -21,6 +28,8 @@
 #include "io/error.hpp"
 #include "io/label_file.hpp"
 #include "io/sequence.hpp"
+#include "odometry/deskew.hpp"
+#include "odometry/preprocess.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanmap;
@@ -31,6 +40,7 @@ struct Args {
   fs::path input, out, poses;
   double speed = 0.5;
   double box_margin = 0.1;
+  bool time_from_azimuth = false;
 };
 
 // Per-point truth of scan i, 1 = moving.
@@ -85,8 +95,14 @@ void convert(const Args& a) {
       keep.push_back(static_cast<std::int32_t>(k));
     }
     Scan world = select_points(raw, keep);
+    if (a.time_from_azimuth && !world.has_time() && !world.empty()) {
+      const double sweep = i + 1 < seq.size() ? seq.times[i + 1] - seq.times[i] : i > 0 ? seq.times[i] - seq.times[i - 1] : 0.1;
+      world.time = times_from_azimuth(world.points, sweep).array() - static_cast<float>(sweep / 2);
+      world.points = to_world(world, sweep_motion(seq.poses, seq.times, i)).points;
+    } else {
+      world.points = (seq.poses[i].cast<float>() * world.points).eval();
+    }
     world.time.resize(0);  // the benchmark's files carry x y z intensity
-    world.points = (seq.poses[i].cast<float>() * world.points).eval();
     CloudWriteOptions o;
     o.viewpoint = seq.poses[i];
     char name[32];
@@ -117,6 +133,7 @@ int main(int argc, char** argv) {
   app.add_option("--poses", a.poses, "Pose file (default: the sequence's poses.txt)");
   app.add_option("--speed", a.speed, "Boxes faster than this (m/s, world frame) are moving")->capture_default_str();
   app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")->capture_default_str();
+  app.add_flag("--time-from-azimuth", a.time_from_azimuth, "Place points at their time (from azimuth) along the poses");
   CLI11_PARSE(app, argc, argv);
   try {
     convert(a);

@@ -78,7 +78,7 @@ dm_sets=(
   "semantickitti/01|$data/semantickitti/01||--config $here/config/kitti-hdl64.yaml"
   "semantickitti/04|$data/semantickitti/04||--config $here/config/kitti-hdl64.yaml"
   "semantickitti/07|$data/semantickitti/07||--config $here/config/kitti-hdl64.yaml"
-  "pandar64_street (boxes)|$data/pandar64_street|--poses $work/pandar64_street__boxes_/poses.txt|--config $here/config/pandar64.yaml"
+  "pandar64_street (boxes)|$data/pandar64_street|--poses $work/pandar64_street__boxes_/poses.txt --time-from-azimuth|--config $here/config/pandar64.yaml"
   "synthetic street|$work/synthetic/sequence||--voxel-size 0.1"
 )
 convert="$build/bench/dynamicmap_layout"

@@ -6,11 +6,15 @@ namespace cleanmap {
 
 Eigen::VectorXf times_from_azimuth(const Eigen::Matrix3Xf& points, double sweep_seconds) {
   Eigen::VectorXf t(points.cols());
+  double turned = 0.0;  // clockwise from the first point, rad, unwrapped along the storage order
+  double last = points.cols() > 0 ? std::atan2(points(1, 0), points(0, 0)) : 0.0;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     const double az = std::atan2(points(1, i), points(0, i));  // (-pi, pi], counter-clockwise
-    double frac = -az / (2 * M_PI);                            // clockwise from +x
-    frac -= std::floor(frac);
-    t[i] = static_cast<float>(frac * sweep_seconds);
+    turned += std::remainder(last - az, 2 * M_PI);  // the step from the point stored before
+    last = az;
+    // Lasers fire a few degrees apart: the first column's points ahead of the first one
+    // fired with it.
+    t[i] = static_cast<float>(std::max(0.0, turned / (2 * M_PI)) * sweep_seconds);
   }
   return t;
 }
