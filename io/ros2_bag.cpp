@@ -56,8 +56,7 @@ bool is_ros2_bag(const fs::path& folder) {
 
 Ros2BagInfo read_ros2_metadata(const fs::path& folder) {
   const fs::path file = folder / "metadata.yaml";
-  if (!fs::is_regular_file(file)) fail(folder, "no metadata.yaml: not a ROS 2 bag folder (`ros2 bag reindex` writes one)");
-  const YAML::Node root = load_yaml_file(file, "no such file");
+  const YAML::Node root = load_yaml_file(file, "no metadata.yaml: not a ROS 2 bag folder (`ros2 bag reindex` writes one)");
   Ros2BagInfo info;
   try {
     const YAML::Node b = child(root, "rosbag2_bagfile_information", file);
