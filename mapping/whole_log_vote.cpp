@@ -5,8 +5,10 @@
 namespace cleanmap {
 namespace {
 
+// Dynamic objects the log saw standing back to static: at a log end those seen through less
+// often than hit, inside it those never seen through at all.
 std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
-                             const VisibilityMap& log, float radius) {
+                             const VisibilityMap& log, float radius, bool log_end) {
   std::vector<std::int32_t> moving;
   for (std::size_t i = 0; i < dynamic.size(); ++i) {
     if (dynamic[i]) moving.push_back(static_cast<std::int32_t>(i));
@@ -29,7 +31,7 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
   std::size_t vetoed = 0;
   for (std::size_t k = 0; k < id.size(); ++k) {
     const auto c = static_cast<std::size_t>(id[k]);
-    if (crossed[c] < hits[c]) {
+    if (log_end ? crossed[c] < hits[c] : crossed[c] == 0) {
       dynamic[static_cast<std::size_t>(moving[k])] = 0;
       ++vetoed;
     }
@@ -43,7 +45,7 @@ WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::
                                const VisibilityMap& log, const GroundQuery& ground_of, const ObjectRule& rule,
                                bool log_end, double voxel) {
   WholeLogVerdict v;
-  if (log_end) v.vetoed = veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius));
+  v.vetoed = veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius), log_end);
   const auto objects = free_space_objects(
       points, ground_of, [&](const Eigen::Matrix3Xf& sub) { return log.moved_through(sub); }, rule, voxel);
   for (std::size_t i = 0; i < dynamic.size(); ++i) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -234,9 +235,33 @@ TEST(WholeLogVote, AnObjectInSpaceTheLogSawThroughIsDynamic) {
   const auto w = judge_with_log(wall, wall_dynamic, map, no_ground, kFreeSpaceRule, true);
   EXPECT_EQ(w.added, 0u);
   EXPECT_EQ(w.vetoed, static_cast<std::size_t>(wall.cols()));
-  // Inside the log the normals keep their call.
+  // Inside the log too: no ray of any scan ever crossed the wall's cells, so it never left.
+  std::vector<std::uint8_t> inside(static_cast<std::size_t>(wall.cols()), 1);
+  EXPECT_EQ(judge_with_log(wall, inside, map, no_ground, kFreeSpaceRule, false).vetoed,
+            static_cast<std::size_t>(wall.cols()));
+}
+
+TEST(WholeLogVote, InsideTheLogTheNormalsKeepWhatTheLogSawThroughOnce) {
+  // A wall at x = 12 hit in ten scans, and one scan that sees through it to x = 15 (the wall
+  // gone for that scan: something that crawls, occupied most of the time).
+  VisibilityMap map({});
+  const auto wall = wall_at(12.0f), behind = wall_at(15.0f);
+  const Eigen::Vector3d origin(0, 0.5, 1.0);
+  for (int s = 0; s < 10; ++s) map.add_hits(wall);
+  map.add_hits(behind);
+  for (int s = 0; s < 10; ++s) map.add_rays(wall, origin);
+  map.add_rays(behind, origin);
+  auto no_ground = [](const Eigen::Matrix3Xf& sub) { return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0); };
+  int crossed = 0;
+  for (Eigen::Index i = 0; i < wall.cols(); ++i) crossed += map.counts(wall.col(i)).crossed;
+  ASSERT_GT(crossed, 0);  // some of its cells, where the rays reach the hits' level
+  // Inside the log the normals keep their call: it left its place once.
   std::vector<std::uint8_t> inside(static_cast<std::size_t>(wall.cols()), 1);
   EXPECT_EQ(judge_with_log(wall, inside, map, no_ground, kFreeSpaceRule, false).vetoed, 0u);
+  EXPECT_EQ(std::count(inside.begin(), inside.end(), 1), wall.cols());
+  // At a log end, hit ten times against one crossing, it stood: static.
+  std::vector<std::uint8_t> end(static_cast<std::size_t>(wall.cols()), 1);
+  EXPECT_EQ(judge_with_log(wall, end, map, no_ground, kFreeSpaceRule, true).vetoed, static_cast<std::size_t>(wall.cols()));
 }
 
 }  // namespace
