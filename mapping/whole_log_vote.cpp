@@ -15,21 +15,32 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
   }
   if (moving.empty()) return 0;
   const Eigen::Matrix3Xf sub = points(Eigen::all, moving);
+  std::vector<VisibilityMap::Counts> counts(moving.size());
+  for (std::size_t k = 0; k < moving.size(); ++k) counts[k] = log.counts(sub.col(static_cast<Eigen::Index>(k)));
+  // Inside the log only clusters with a never-crossed point can be vetoed: grown from those
+  // alone (most scans have a few, and the clustering of every dynamic point doubled pass 2).
   const std::vector<std::uint8_t> all(moving.size(), 1);
-  const auto id = clusters_from_seeds(sub, all, all, radius);
+  std::vector<std::uint8_t> seed(moving.size(), 1);
+  if (!log_end) {
+    bool any = false;
+    for (std::size_t k = 0; k < moving.size(); ++k) any |= (seed[k] = counts[k].crossed == 0);
+    if (!any) return 0;
+  }
+  const auto id = clusters_from_seeds(sub, all, seed, radius);
   std::vector<std::size_t> hits, crossed;
   for (std::size_t k = 0; k < id.size(); ++k) {
+    if (id[k] < 0) continue;
     const auto c = static_cast<std::size_t>(id[k]);
     if (c >= hits.size()) {
       hits.resize(c + 1, 0);
       crossed.resize(c + 1, 0);
     }
-    const auto n = log.counts(sub.col(static_cast<Eigen::Index>(k)));
-    hits[c] += n.hits;
-    crossed[c] += n.crossed;
+    hits[c] += counts[k].hits;
+    crossed[c] += counts[k].crossed;
   }
   std::size_t vetoed = 0;
   for (std::size_t k = 0; k < id.size(); ++k) {
+    if (id[k] < 0) continue;
     const auto c = static_cast<std::size_t>(id[k]);
     if (log_end ? crossed[c] < hits[c] : crossed[c] == 0) {
       dynamic[static_cast<std::size_t>(moving[k])] = 0;
