@@ -100,6 +100,7 @@ struct DynamicArgs {
   fs::path pred, gt, json, poses;
   double max_range = 0.0;
   double speed = 0.5;
+  double speed_window = 1.0;
   double box_margin = 0.1;
 };
 
@@ -116,7 +117,7 @@ void eval_dynamic(const DynamicArgs& a) {
   if (from_boxes) {
     if (!seq.has_poses()) fail(a.gt, "boxes need poses to tell moving objects: give --poses (e.g. a run's poses.txt)");
     boxes = read_sequence_boxes(a.gt / "boxes", seq.scans);
-    moving = moving_boxes(boxes, seq.poses, seq.times, a.speed);
+    moving = moving_boxes(boxes, seq.poses, seq.times, a.speed, a.speed_window);
     std::size_t n_moving = 0, n_boxes = 0;
     for (const auto& m : moving) {
       n_boxes += m.size();
@@ -207,6 +208,8 @@ void register_eval(CLI::App& app) {
   dc->add_option("--gt", d->gt, "Sequence folder with labels/ (or boxes/ and --poses)")->required();
   dc->add_option("--poses", d->poses, "Poses for box ground truth (e.g. a run's poses.txt)");
   dc->add_option("--speed", d->speed, "Boxes faster than this (m/s, world frame) are moving")
+      ->check(number_in(kNonNegative))->capture_default_str();
+  dc->add_option("--speed-window", d->speed_window, "Box speed from a line fitted over this many seconds (0: neighbouring scans)")
       ->check(number_in(kNonNegative))->capture_default_str();
   dc->add_option("--box-margin", d->box_margin, "Boxes grown by this on every side, m")
       ->check(number_in(kNonNegative))->capture_default_str();

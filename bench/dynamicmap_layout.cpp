@@ -4,7 +4,7 @@
 // moves and 0 when not. `cleanmap run --input OUT` then cleans it, and
 // `cleanmap eval map --gt OUT/gt_cloud.pcd --output RUN/map_static.pcd` scores the result.
 //
-//   dynamicmap_layout --input SEQ --out DIR [--poses FILE] [--speed 0.5] [--box-margin 0.1]
+//   dynamicmap_layout --input SEQ --out DIR [--poses FILE] [--speed 0.5] [--speed-window 1] [--box-margin 0.1]
 //                     [--time-from-azimuth]
 //
 // With --time-from-azimuth (scans without per-point time, as a preset with time_from_azimuth
@@ -39,6 +39,7 @@ namespace {
 struct Args {
   fs::path input, out, poses;
   double speed = 0.5;
+  double speed_window = 1.0;
   double box_margin = 0.1;
   bool time_from_azimuth = false;
 };
@@ -52,7 +53,7 @@ class Truth {
       throw Error(a.input.string() + ": has neither labels/ (.label files) nor boxes/ (3D boxes)");
     }
     boxes_ = read_sequence_boxes(a.input / "boxes", seq.scans);
-    moving_ = moving_boxes(boxes_, seq.poses, seq.times, a.speed);
+    moving_ = moving_boxes(boxes_, seq.poses, seq.times, a.speed, a.speed_window);
   }
   std::vector<std::uint8_t> of(std::size_t i, const Scan& raw) const {
     const auto labels = boxes_.empty() ? read_labels(seq_.labels[i], raw.size())
@@ -132,6 +133,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", a.out, "Output folder")->required();
   app.add_option("--poses", a.poses, "Pose file (default: the sequence's poses.txt)");
   app.add_option("--speed", a.speed, "Boxes faster than this (m/s, world frame) are moving")->capture_default_str();
+  app.add_option("--speed-window", a.speed_window, "Box speed from a line fitted over this many seconds (0: neighbouring scans)")->capture_default_str();
   app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")->capture_default_str();
   app.add_flag("--time-from-azimuth", a.time_from_azimuth, "Place points at their time (from azimuth) along the poses");
   CLI11_PARSE(app, argc, argv);

@@ -1,5 +1,6 @@
 #include "evaluation/box_labels.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -44,24 +45,53 @@ std::vector<std::vector<LabelBox>> read_sequence_boxes(const std::filesystem::pa
   return boxes;
 }
 
+namespace {
+
+using Track = std::map<std::size_t, Eigen::Vector3d>;  // scan -> world-frame centre
+
+// Speed between the sightings before and after scan i (one-sided at the track's ends).
+double central_speed(const Track& t, std::size_t i, const std::vector<double>& times) {
+  const auto it = t.find(i);
+  const auto before = it == t.begin() ? it : std::prev(it);
+  const auto after = std::next(it) == t.end() ? it : std::next(it);
+  const double dt = times.at(after->first) - times.at(before->first);
+  return dt > 0 ? (after->second - before->second).norm() / dt : 0.0;
+}
+
+// Slope of the least-squares line through the sightings within half_window of scan i.
+double fitted_speed(const Track& t, std::size_t i, const std::vector<double>& times, double half_window) {
+  const double t0 = times.at(i);
+  double n = 0, st = 0, stt = 0;
+  Eigen::Vector3d sp = Eigen::Vector3d::Zero(), stp = Eigen::Vector3d::Zero();
+  for (const auto& [scan, c] : t) {
+    const double dt = times.at(scan) - t0;
+    if (std::abs(dt) > half_window + 1e-6) continue;  // stamps rounded in their files
+    n += 1;
+    st += dt;
+    stt += dt * dt;
+    sp += c;
+    stp += dt * c;
+  }
+  const double var = stt - st * st / n;
+  if (n < 3 || var <= 0) return central_speed(t, i, times);  // too few sightings to fit
+  return ((stp - st * sp / n) / var).norm();
+}
+
+}  // namespace
+
 std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelBox>>& boxes,
                                             const std::vector<Eigen::Isometry3d>& poses,
                                             const std::vector<double>& times,
-                                            double speed_threshold) {
-  // World-frame centre of every (id, scan).
-  std::map<std::string, std::map<std::size_t, Eigen::Vector3d>> track;
+                                            double speed_threshold, double window) {
+  std::map<std::string, Track> track;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (const auto& b : boxes[i]) track[b.id][i] = poses.at(i) * b.centre;
   }
   std::vector<std::vector<bool>> moving(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (const auto& b : boxes[i]) {
-      const auto& t = track[b.id];
-      auto it = t.find(i);
-      auto before = it == t.begin() ? it : std::prev(it);
-      auto after = std::next(it) == t.end() ? it : std::next(it);
-      const double dt = times.at(after->first) - times.at(before->first);
-      const double speed = dt > 0 ? (after->second - before->second).norm() / dt : 0.0;
+      const Track& t = track[b.id];
+      const double speed = window > 0 ? fitted_speed(t, i, times, window / 2) : central_speed(t, i, times);
       moving[i].push_back(speed > speed_threshold);
     }
   }
