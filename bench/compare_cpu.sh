@@ -11,17 +11,22 @@ a="$1"; b="$2"; runs="${3:-5}"; scans="${4:-60}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "${b%%:*}/apps/cleanmap" demo --generate-only --overwrite --scans "$scans" --columns 2368 --out "$work/demo" > /dev/null 2>&1
-cpu() {  # cpu SETUP: CPU seconds of one run
+cpu() {  # cpu SETUP: CPU seconds of one run (a fresh output folder: older builds lack --overwrite)
   local build="${1%%:*}" opts=""
   [ "$build" != "$1" ] && opts="${1#*:}"
+  rm -rf "$work/run"
   # shellcheck disable=SC2086
-  /usr/bin/time -f "%U %S" -o "$work/t" "$build/apps/cleanmap" run --overwrite --input "$work/demo/sequence" \
-    --out "$work/run" $opts > /dev/null 2>&1 || { echo "compare_cpu: run with $1 failed" >&2; exit 1; }
+  if ! /usr/bin/time -f "%U %S" -o "$work/t" "$build/apps/cleanmap" run --input "$work/demo/sequence" \
+    --out "$work/run" $opts > "$work/log" 2>&1; then
+    echo "compare_cpu: run with $1 failed: $(tail -n 1 "$work/log")" >&2
+    return 1
+  fi
   awk '{print $1 + $2}' "$work/t"
 }
 for r in $(seq 1 "$runs"); do
-  echo "A $(cpu "$a")" >> "$work/cpu"
-  echo "B $(cpu "$b")" >> "$work/cpu"
+  ta=$(cpu "$a") && tb=$(cpu "$b") || exit 1
+  echo "A $ta" >> "$work/cpu"
+  echo "B $tb" >> "$work/cpu"
   echo "compare_cpu: pair $r of $runs done" >&2
 done
 /usr/bin/python3 - "$work/cpu" "$scans" "$a" "$b" <<'PY'
