@@ -49,8 +49,9 @@ class CellSet {
   // Tiles looked up lately, direct-mapped as in Reader (tile id + 1, 0 = empty): makes even
   // contains() mutate, so one thread at a time. One slot (the last tile) left a ray's walk a
   // hash probe at every tile border; its rays fan out from one origin and keep coming back.
-  mutable std::array<std::uint64_t, 64> cache_id_{};
-  mutable std::array<std::uint32_t, 64> cache_tile_{};
+  static constexpr std::size_t kCacheSlots = 64;  // tile_slot's 6 bits
+  mutable std::array<std::uint64_t, kCacheSlots> cache_id_{};
+  mutable std::array<std::uint32_t, kCacheSlots> cache_tile_{};
   std::size_t size_ = 0;
 
  public:
@@ -58,15 +59,15 @@ class CellSet {
   // (contains() caches in the set itself).
   class Reader {
    public:
-    explicit Reader(const CellSet& set) : set_(set) { id_.fill(~0ull); }
+    explicit Reader(const CellSet& set) : set_(set) {}
     bool contains(const Key& k);
 
    private:
     // Direct-mapped by tile: the rays of a scan fan out from one origin, so a few tiles (those
     // near the sensor) are asked again and again between the others.
     const CellSet& set_;
-    std::array<std::uint64_t, 64> id_;
-    std::array<const Tile*, 64> tile_{};
+    std::array<std::uint64_t, kCacheSlots> id_{};  // tile id + 1, 0 = empty, as the set's own
+    std::array<const Tile*, kCacheSlots> tile_{};
   };
 };
 
@@ -132,7 +133,7 @@ inline bool CellSet::contains(const Key& k) const {
 }
 
 inline bool CellSet::Reader::contains(const Key& k) {
-  const auto id = cell_set_detail::tile_id(k);
+  const auto id = cell_set_detail::tile_id(k) + 1;
   const std::size_t slot = cell_set_detail::tile_slot(k);
   if (id_[slot] != id) {
     id_[slot] = id;
