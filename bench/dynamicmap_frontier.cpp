@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
+#include <string>
 #include <vector>
 
+#include "apps/config_fields.hpp"
 #include "geometry/point_index.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
@@ -22,7 +24,14 @@ namespace {
 
 void frontier(const Scan& gt, double distance) {
   std::vector<Eigen::Index> moving, standing;
-  for (Eigen::Index i = 0; i < gt.points.cols(); ++i) (gt.intensity[i] == 1.0f ? moving : standing).push_back(i);
+  for (Eigen::Index i = 0; i < gt.points.cols(); ++i) {
+    const float v = gt.intensity[i];
+    if (v != 0.0f && v != 1.0f) {
+      throw Error("point " + std::to_string(i) + " has intensity " + app::format_number(v) +
+                  ": ground truth must be 0 (static) or 1 (dynamic)");
+    }
+    (v == 1.0f ? moving : standing).push_back(i);
+  }
   if (moving.empty() || standing.empty()) throw Error("needs static and dynamic ground-truth points");
   const Eigen::Matrix3Xf stat = gt.points(Eigen::all, standing);
   const PointIndex index(stat);
@@ -67,7 +76,8 @@ int main(int argc, char** argv) {
   std::string file;
   double distance = 0.05;
   app.add_option("--gt", file, "gt_cloud.pcd (intensity 0 static, 1 dynamic)")->required();
-  app.add_option("--distance", distance, "Kept when an output point is this close, m")->capture_default_str();
+  app.add_option("--distance", distance, "Kept when an output point is this close, m")
+      ->check(app::number_in(app::kPositive))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     const Scan gt = read_cloud(file);

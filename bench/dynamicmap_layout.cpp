@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/config_fields.hpp"
 #include "apps/run_inputs.hpp"
 #include "evaluation/box_labels.hpp"
 #include "io/cloud_file.hpp"
@@ -132,9 +133,12 @@ int main(int argc, char** argv) {
   app.add_option("--input", a.input, "Sequence with labels/ or boxes/")->required();
   app.add_option("--out", a.out, "Output folder")->required();
   app.add_option("--poses", a.poses, "Pose file (default: the sequence's poses.txt)");
-  app.add_option("--speed", a.speed, "Boxes faster than this (m/s, world frame) are moving")->capture_default_str();
-  app.add_option("--speed-window", a.speed_window, "Box speed from a line fitted over this many seconds (0: neighbouring scans)")->capture_default_str();
-  app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")->capture_default_str();
+  app.add_option("--speed", a.speed, "Boxes faster than this (m/s, world frame) are moving")
+      ->check(app::number_in(app::kNonNegative))->capture_default_str();
+  app.add_option("--speed-window", a.speed_window, "Box speed from a line fitted over this many seconds (0: neighbouring scans)")
+      ->check(app::number_in(app::kNonNegative))->capture_default_str();
+  app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")
+      ->check(app::number_in(app::kNonNegative))->capture_default_str();
   app.add_flag("--time-from-azimuth", a.time_from_azimuth, "Place points at their time (from azimuth) along the poses");
   CLI11_PARSE(app, argc, argv);
   try {

@@ -83,6 +83,8 @@ std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelB
                                             const std::vector<Eigen::Isometry3d>& poses,
                                             const std::vector<double>& times,
                                             double speed_threshold, double window) {
+  if (!std::isfinite(speed_threshold) || speed_threshold < 0) throw Error("box speed threshold must be a finite number >= 0");
+  if (!std::isfinite(window) || window < 0) throw Error("box speed window must be a finite number >= 0 (s)");
   std::map<std::string, Track> track;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (const auto& b : boxes[i]) track[b.id][i] = poses.at(i) * b.centre;

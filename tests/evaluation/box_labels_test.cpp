@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
+#include "io/error.hpp"
+
 namespace cleanmap {
 namespace {
 
@@ -59,6 +63,18 @@ TEST(MovingBoxes, ABoxSeenTwiceFallsBackToItsNeighbour) {
   const auto m = moving_boxes(log.boxes, log.poses, log.times, 0.5, 1.0);
   EXPECT_TRUE(m[0].at(0));
   EXPECT_TRUE(m[1].at(0));
+}
+
+TEST(MovingBoxes, ANonFiniteOrNegativeSpeedOrWindowIsRefused) {
+  // A NaN window compares false everywhere: every box would be neither fitted nor differenced.
+  const Log log = track(1.0, 0.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(moving_boxes(log.boxes, log.poses, log.times, 0.5, nan), Error);
+  EXPECT_THROW(moving_boxes(log.boxes, log.poses, log.times, 0.5, inf), Error);
+  EXPECT_THROW(moving_boxes(log.boxes, log.poses, log.times, 0.5, -1.0), Error);
+  EXPECT_THROW(moving_boxes(log.boxes, log.poses, log.times, nan, 1.0), Error);
+  EXPECT_THROW(moving_boxes(log.boxes, log.poses, log.times, -0.5, 1.0), Error);
+  EXPECT_NO_THROW(moving_boxes(log.boxes, log.poses, log.times, 0.0, 0.0));
 }
 
 }  // namespace
