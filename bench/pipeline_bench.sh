@@ -5,6 +5,7 @@
 # paper's relative d_v, N = 10), this machine's cores. Runs the same stream `runs` times and
 # prints each run (scans/s overall and in the steady state, CPU per scan, each stage's busy
 # time, peak memory), then the median over the runs: timings on a shared VM vary by +-15%.
+# Fresh output folders each run (builds from before --overwrite run too).
 # `run` is offline (two passes) by default; a live sensor needs `--online`: extra options after
 # `--` go to every run, e.g. compare the two back to back:
 #   bash bench/pipeline_bench.sh build 60 2368 3 -- --online; bash bench/pipeline_bench.sh build 60
@@ -19,9 +20,9 @@ shift $(( $# < 4 ? $# : 4 ))
 extra=("$@")
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-"$build/apps/cleanmap" demo --generate-only --overwrite --scans "$scans" --columns "$columns" --out "$work/demo" > /dev/null 2>&1
+"$build/apps/cleanmap" demo --generate-only --scans "$scans" --columns "$columns" --out "$work/demo" > /dev/null 2>&1
 for r in $(seq 1 "$runs"); do
-  /usr/bin/time -v "$build/apps/cleanmap" run --overwrite --input "$work/demo/sequence" --out "$work/run$r" "${extra[@]}" \
+  /usr/bin/time -v "$build/apps/cleanmap" run --input "$work/demo/sequence" --out "$work/run$r" "${extra[@]}" \
     > /dev/null 2> "$work/time$r.txt"
 done
 /usr/bin/python3 - "$work" "$runs" <<'PY'
