@@ -5,11 +5,12 @@
 // `cleanmap eval map --gt OUT/gt_cloud.pcd --output RUN/map_static.pcd` scores the result.
 //
 //   dynamicmap_layout --input SEQ --out DIR [--poses FILE] [--speed 0.5] [--speed-window 1] [--box-margin 0.1]
-//                     [--time-from-azimuth]
+//                     [--time-from-azimuth [--pose-reference middle]]
 //
 // With --time-from-azimuth (scans without per-point time, as a preset with time_from_azimuth
 // runs them), every point is placed with the pose at its own time (times from azimuth,
-// relative to the sweep's middle, which `cleanmap run`'s poses refer to; constant velocity
+// relative to where the poses sit in the sweep: the middle for `cleanmap run`'s poses unless
+// its deskew_reference says otherwise, --pose-reference; constant velocity
 // between neighbouring poses): the poses of a deskewing run fit deskewed scans, and raw ones
 // put on them smear by up to half the sweep's travel (0.3 m at 6 m/s).
 //
@@ -19,6 +20,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,7 @@ struct Args {
   double speed_window = 1.0;
   double box_margin = 0.1;
   bool time_from_azimuth = false;
+  double pose_reference = 0.5;  // where in its sweep a scan's pose sits: 0 start, 0.5 middle, 1 end
 };
 
 // Per-point truth of scan i, 1 = moving.
@@ -99,7 +102,10 @@ void convert(const Args& a) {
     Scan world = select_points(raw, keep);
     if (a.time_from_azimuth && !world.has_time() && !world.empty()) {
       const double sweep = i + 1 < seq.size() ? seq.times[i + 1] - seq.times[i] : i > 0 ? seq.times[i] - seq.times[i - 1] : 0.1;
-      world.time = times_from_azimuth(world.points, sweep).array() - static_cast<float>(sweep / 2);
+      // The pose sits where the run that wrote it put it (deskew_reference), a share of the
+      // sweep's last point time, as the run measures it.
+      world.time = times_from_azimuth(world.points, sweep);
+      world.time.array() -= static_cast<float>(a.pose_reference) * world.time.maxCoeff();
       world.points = to_world(world, sweep_motion(seq.poses, seq.times, i)).points;
     } else {
       world.points = (seq.poses[i].cast<float>() * world.points).eval();
@@ -140,6 +146,11 @@ int main(int argc, char** argv) {
   app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")
       ->check(app::number_in(app::kNonNegative))->capture_default_str();
   app.add_flag("--time-from-azimuth", a.time_from_azimuth, "Place points at their time (from azimuth) along the poses");
+  const std::map<std::string, double> reference{{"start", 0.0}, {"middle", 0.5}, {"end", 1.0}};
+  app.add_option("--pose-reference", a.pose_reference,
+                 "Where in its sweep each pose sits, as the run that wrote the poses (deskew_reference): start, middle, end")
+      ->transform(CLI::CheckedTransformer(reference))
+      ->default_str("middle");
   CLI11_PARSE(app, argc, argv);
   try {
     convert(a);
