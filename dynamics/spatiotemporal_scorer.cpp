@@ -297,10 +297,11 @@ struct SpatiotemporalScorer::Impl {
     d.dynamic.resize(n);
     const Eigen::Vector3f origin =
         w.full.pose ? Eigen::Vector3f(w.full.pose->translation().cast<float>()) : Eigen::Vector3f::Zero();
+    const bool exact = cfg.mode == "exact";  // once, not per point
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const auto k = static_cast<Eigen::Index>(i);
-        const Moments4 m = cfg.mode == "exact" ? neighbourhood_exact(w, k) : neighbourhood_fast(w, k);
+        const Moments4 m = exact ? neighbourhood_exact(w, k) : neighbourhood_fast(w, k);
         d.score[i] = spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
         d.dynamic[i] = dynamic(d.score[i], m, w.points.col(k), origin) ? 1 : 0;
         if (cfg.ground_static && w.ground[i]) d.dynamic[i] = 0;
