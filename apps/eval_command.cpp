@@ -5,6 +5,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/config_fields.hpp"
+#include "apps/map_truth.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/settings.hpp"
 #include "evaluation/box_labels.hpp"
@@ -163,18 +164,8 @@ struct MapArgs {
 };
 
 void eval_map(const MapArgs& a) {
-  const Scan gt = read_cloud(a.gt);
-  if (!gt.has_intensity()) fail(a.gt, "needs an intensity field (0 = static, 1 = dynamic)");
+  const auto [gt, dynamic] = read_map_truth(a.gt);
   const Scan out = read_cloud(a.output);
-  std::vector<std::uint8_t> dynamic(gt.size());
-  for (std::size_t i = 0; i < gt.size(); ++i) {
-    const float v = gt.intensity[static_cast<Eigen::Index>(i)];
-    if (v != 0.0f && v != 1.0f) {
-      fail(a.gt, "point " + std::to_string(i) + " has intensity " + format_number(v) +
-                     ": ground truth must be 0 (static) or 1 (dynamic)");
-    }
-    dynamic[i] = v == 1.0f;
-  }
   if (gt.size() == 0) fail(a.gt, "has no points: nothing to measure");
   const auto s = score_map(gt.points, dynamic, out.points, a.distance);
   std::printf("DynamicMap benchmark: SA %.3f  DA %.3f  AA %.3f  HA %.3f  (%zu static, %zu dynamic ground-truth points)\n"

@@ -9,30 +9,25 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <numeric>
 #include <string>
 #include <vector>
 
 #include "apps/config_fields.hpp"
+#include "apps/map_truth.hpp"
 #include "geometry/point_index.hpp"
-#include "io/cloud_file.hpp"
 #include "io/error.hpp"
 
 using namespace cleanmap;
 
 namespace {
 
-void frontier(const Scan& gt, double distance) {
+void frontier(const std::filesystem::path& file, double distance) {
+  const auto [gt, dynamic] = app::read_map_truth(file);
   std::vector<Eigen::Index> moving, standing;
-  for (Eigen::Index i = 0; i < gt.points.cols(); ++i) {
-    const float v = gt.intensity[i];
-    if (v != 0.0f && v != 1.0f) {
-      throw Error("point " + std::to_string(i) + " has intensity " + app::format_number(v) +
-                  ": ground truth must be 0 (static) or 1 (dynamic)");
-    }
-    (v == 1.0f ? moving : standing).push_back(i);
-  }
-  if (moving.empty() || standing.empty()) throw Error("needs static and dynamic ground-truth points");
+  for (Eigen::Index i = 0; i < gt.points.cols(); ++i) (dynamic[static_cast<std::size_t>(i)] ? moving : standing).push_back(i);
+  if (moving.empty() || standing.empty()) fail(file, "needs static and dynamic ground-truth points");
   const Eigen::Matrix3Xf stat = gt.points(Eigen::all, standing);
   const PointIndex index(stat);
   std::vector<std::vector<std::uint32_t>> shadow(moving.size());
@@ -80,11 +75,9 @@ int main(int argc, char** argv) {
       ->check(app::number_in(app::kPositive))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
-    const Scan gt = read_cloud(file);
-    if (!gt.has_intensity()) fail(file, "needs an intensity field (0 = static, 1 = dynamic)");
-    frontier(gt, distance);
+    frontier(file, distance);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "dynamicmap_frontier: %s: %s\n", file.c_str(), e.what());
+    std::fprintf(stderr, "dynamicmap_frontier: %s\n", e.what());  // names the file already
     return 1;
   }
   return 0;
