@@ -46,6 +46,7 @@ OfflinePassStats run_offline_pass(
   std::size_t rays_done = 0;
   // Every scan's rays, once every scan's hits are in (the spills hold the world-frame scans):
   // cast side by side, counted in order.
+  visibility.fit_surfaces();
   Progress rays(command + " (rays)", scans);
   std::size_t next_ray = 0;
   std::mutex cast_time;

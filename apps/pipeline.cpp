@@ -85,7 +85,8 @@ void first_pass(PipelineRun& run, Progress& progress) {
                     continue;
                   }
                   const auto t = Clock::now();
-                  run.visibility->add_hits(r.scan.points);
+                  run.visibility->add_hits(
+                      r.scan.points, r.scan.pose ? std::optional<Eigen::Vector3d>(r.scan.pose->translation()) : std::nullopt);
                   run.visibility_s += since(t);
                 }
                 return item;

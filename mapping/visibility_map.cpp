@@ -1,10 +1,13 @@
 #include "mapping/visibility_map.hpp"
 
 #include <octomap/OcTree.h>
+#include <tbb/parallel_for.h>
+
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "io/error.hpp"
@@ -18,7 +21,73 @@ constexpr std::uint16_t kMaxCount = std::numeric_limits<std::uint16_t>::max();
 
 void bump(std::uint16_t& c) { c = static_cast<std::uint16_t>(std::min<int>(c + 1, kMaxCount)); }
 
+using Counts = VisibilityMap::Counts;
+
+// Two cells' hits are at one level when they are this close (m): range noise (1-2 cm) and the
+// pose error between scans (2-3 cm), as extent_margin.
+constexpr double kLevelTolerance = 0.05;
+
+// Thin along `a`: the hits fill under half the cell there (a surface's side can be missed).
+bool thin(const Counts& c, int a) { return c.lo[a] <= c.hi[a] && c.hi[a] + 1 - c.lo[a] < 128; }
+
 }  // namespace
+
+// The axes a cell's hits face along (bit a), when they are a line or a dot (thin along two axes
+// or three): the thin axes along which neighbouring cells hold hits at the same level (within
+// kLevelTolerance) in two directions across it that are not one line (a roof's other rings, a
+// side's rows above and below). Two bits: an edge (a roof meeting a side). 0: a line alone, or
+// nothing around it to tell. Only neighbours in the 3x3x3 block are read.
+std::uint8_t VisibilityMap::faces(const VoxelKey& k, const Counts& c) const {
+  if (thin(c, 0) + thin(c, 1) + thin(c, 2) < 2) return 0;
+  const double res = config_.resolution, step = res / 256.0;
+  // Where the hits of `n` (cell `m`) lie along axis `a`, in metres.
+  auto level = [&](const VoxelKey& m, const Counts& n, int a) {
+    const int base = a == 0 ? m.x : a == 1 ? m.y : m.z;
+    return std::pair<double, double>{base * res + n.lo[a] * step, base * res + (n.hi[a] + 1) * step};
+  };
+  std::array<int, 3> found{0, 0, 0};  // per axis: 0 none, 1 one direction (or a line), 2 a plane
+  std::array<std::array<int, 2>, 3> first{};  // the first supporting direction, per axis
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const VoxelKey m{k.x + dx, k.y + dy, k.z + dz};
+        const auto it = cells_.find(m);
+        if ((dx == 0 && dy == 0 && dz == 0) || it == cells_.end()) continue;
+        const std::array<int, 3> d{dx, dy, dz};
+        for (int a = 0; a < 3; ++a) {
+          if (!thin(c, a) || !thin(it->second, a) || found[a] == 2) continue;
+          const std::array<int, 2> across{d[(a + 1) % 3], d[(a + 2) % 3]};
+          if (across[0] == 0 && across[1] == 0) continue;  // straight above or below: not beside it
+          const auto own = level(k, c, a), other = level(m, it->second, a);
+          if (other.first > own.second + kLevelTolerance || other.second < own.first - kLevelTolerance) continue;
+          if (found[a] == 0) {
+            first[a] = across;
+            found[a] = 1;
+          } else if (first[a][0] * across[1] != first[a][1] * across[0]) {
+            found[a] = 2;
+          }
+        }
+      }
+    }
+  }
+  std::uint8_t faces = 0;
+  for (int a = 0; a < 3; ++a) faces |= found[a] == 2 ? 1 << a : 0;
+  return faces;
+}
+
+void VisibilityMap::fit_surfaces() {
+  std::vector<std::pair<VoxelKey, Counts*>> lines;
+  for (auto it = cells_.begin(); it != cells_.end(); ++it) {
+    const Counts& c = it->second;
+    if (thin(c, 0) + thin(c, 1) + thin(c, 2) >= 2) lines.emplace_back(it->first, &it.value());
+  }
+  // Read the map side by side, write once all are read (a neighbour's box is never changed).
+  std::vector<std::uint8_t> axis(lines.size());
+  tbb::parallel_for(std::size_t{0}, lines.size(),
+                    [&](std::size_t i) { axis[i] = faces(lines[i].first, *lines[i].second); });
+  for (std::size_t i = 0; i < lines.size(); ++i) lines[i].second->faces = axis[i];
+  surfaces_fitted_ = true;
+}
 
 void validate(const VisibilityConfig& c) {
   auto bad = [](const std::string& what) { throw Error("visibility: " + what); };
@@ -39,7 +108,7 @@ VisibilityMap::~VisibilityMap() = default;
 VisibilityMap::VisibilityMap(VisibilityMap&&) noexcept = default;
 VisibilityMap& VisibilityMap::operator=(VisibilityMap&&) noexcept = default;
 
-void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points) {
+void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points, const std::optional<Eigen::Vector3d>& origin) {
   const double inv = 1.0 / config_.resolution;
   // The scan's boxes first, per kept point (no hash lookup per point), then one lookup per cell.
   const VoxelSample sample = voxel_downsample_with_owners(points, config_.resolution);
@@ -59,12 +128,16 @@ void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points) {
     if (!grid_->coordToKeyChecked(p.x(), p.y(), p.z(), k)) continue;  // beyond +-6.5 km
     Counts& c = cells_[voxel_of(p, inv)];
     bump(c.hits);
+    if (origin) {
+      for (int a = 0; a < 3; ++a) c.seen_from |= p[a] > (*origin)[a] ? 1 << a : 1 << (a + 3);
+    }
     for (int a = 0; a < 3; ++a) {
       c.lo[a] = std::min(c.lo[a], box[j][a]);
       c.hi[a] = std::max(c.hi[a], box[j][a + 3]);
     }
     hit_cells_.insert({k[0], k[1], k[2]});
   }
+  surfaces_fitted_ = false;
 }
 
 bool VisibilityMap::passes_hits(const CellSet::Key& k, const Eigen::Vector3d& from, const Eigen::Vector3d& dir,
@@ -74,21 +147,36 @@ bool VisibilityMap::passes_hits(const CellSet::Key& k, const Eigen::Vector3d& fr
   if (it == cells_.end()) return false;
   const Counts& c = it->second;
   const double res = config_.resolution, step = res / 256.0;
-  bool thin = false;
-  for (int a = 0; a < 3; ++a) {
-    if (c.lo[a] > c.hi[a]) return false;
-    if ((c.hi[a] + 1 - c.lo[a]) * step >= 0.5 * res) continue;  // spread over the cell: no side to miss
-    thin = true;
+  auto reaches = [&](int a) {
     const double base = (static_cast<int>(k[a]) - kOffset) * res;
     const double lo = base + c.lo[a] * step - config_.extent_margin;
     const double hi = base + (c.hi[a] + 1) * step + config_.extent_margin;
     const double za = from[a] + dir[a] * t0, zb = from[a] + dir[a] * t1;
-    if (std::max(za, zb) >= lo && std::min(za, zb) <= hi) return true;  // reaches the surface's level
+    // Hit from one side only: beyond the level is inside what was hit, and passing there
+    // crosses it (a ray under a roof's level goes through the car beneath it).
+    const bool from_low = c.seen_from >> a & 1, from_high = c.seen_from >> (a + 3) & 1;
+    if (from_low && !from_high) return std::max(za, zb) >= lo;
+    if (from_high && !from_low) return std::min(za, zb) <= hi;
+    return std::max(za, zb) >= lo && std::min(za, zb) <= hi;  // reaches the surface's level
+  };
+  if (c.faces != 0) {  // an edge (two faces) is crossed only where the ray reaches both
+    for (int a = 0; a < 3; ++a) {
+      if ((c.faces >> a & 1) && !reaches(a)) return false;
+    }
+    return true;
   }
-  return !thin;
+  bool any_thin = false;
+  for (int a = 0; a < 3; ++a) {
+    if (c.lo[a] > c.hi[a]) return false;
+    if (!thin(c, a)) continue;  // spread over the cell: no side to miss
+    any_thin = true;
+    if (reaches(a)) return true;
+  }
+  return !any_thin;
 }
 
 void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
+  if (!surfaces_fitted_) fit_surfaces();
   count(cast(points, origin));
 }
 
@@ -97,6 +185,7 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
   // the far end) stops where an earlier ray of the scan walked the rest of the way. A hit cell
   // counts as crossed once a ray reached its hits' level (passes_hits); until then it is not
   // settled, and later rays keep looking at it.
+  if (!surfaces_fitted_) throw std::logic_error("VisibilityMap::cast before fit_surfaces");
   ScanRays out;
   const auto keep = voxel_downsample(points, config_.resolution);
   octomap::OcTreeKey key;
