@@ -3,7 +3,6 @@
 #include <octomap/OcTree.h>
 #include <tbb/parallel_for.h>
 
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -82,10 +81,10 @@ void VisibilityMap::fit_surfaces() {
     if (thin(c, 0) + thin(c, 1) + thin(c, 2) >= 2) lines.emplace_back(it->first, &it.value());
   }
   // Read the map side by side, write once all are read (a neighbour's box is never changed).
-  std::vector<std::uint8_t> axis(lines.size());
+  std::vector<std::uint8_t> fitted(lines.size());
   tbb::parallel_for(std::size_t{0}, lines.size(),
-                    [&](std::size_t i) { axis[i] = faces(lines[i].first, *lines[i].second); });
-  for (std::size_t i = 0; i < lines.size(); ++i) lines[i].second->faces = axis[i];
+                    [&](std::size_t i) { fitted[i] = faces(lines[i].first, *lines[i].second); });
+  for (std::size_t i = 0; i < lines.size(); ++i) lines[i].second->faces = fitted[i];
   surfaces_fitted_ = true;
 }
 
