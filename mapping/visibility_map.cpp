@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "io/error.hpp"
 #include "geometry/voxel_downsample.hpp"
@@ -28,6 +29,13 @@ constexpr double kLevelTolerance = 0.05;
 
 // Thin along `a`: the hits fill under half the cell there (a surface's side can be missed).
 bool thin(const Counts& c, int a) { return c.lo[a] <= c.hi[a] && c.hi[a] + 1 - c.lo[a] < 128; }
+int thin_axes(const Counts& c) { return thin(c, 0) + thin(c, 1) + thin(c, 2); }
+
+// Where the hits of a cell lie along axis `a` (m): `cell` is its index along that axis.
+std::pair<double, double> hits_level(int cell, const Counts& c, int a, double res) {
+  const double step = res / 256.0;
+  return {cell * res + c.lo[a] * step, cell * res + (c.hi[a] + 1) * step};
+}
 
 }  // namespace
 
@@ -37,12 +45,10 @@ bool thin(const Counts& c, int a) { return c.lo[a] <= c.hi[a] && c.hi[a] + 1 - c
 // side's rows above and below). Two bits: an edge (a roof meeting a side). 0: a line alone, or
 // nothing around it to tell. Only neighbours in the 3x3x3 block are read.
 std::uint8_t VisibilityMap::faces(const VoxelKey& k, const Counts& c) const {
-  if (thin(c, 0) + thin(c, 1) + thin(c, 2) < 2) return 0;
-  const double res = config_.resolution, step = res / 256.0;
-  // Where the hits of `n` (cell `m`) lie along axis `a`, in metres.
+  if (thin_axes(c) < 2) return 0;
+  const double res = config_.resolution;
   auto level = [&](const VoxelKey& m, const Counts& n, int a) {
-    const int base = a == 0 ? m.x : a == 1 ? m.y : m.z;
-    return std::pair<double, double>{base * res + n.lo[a] * step, base * res + (n.hi[a] + 1) * step};
+    return hits_level(a == 0 ? m.x : a == 1 ? m.y : m.z, n, a, res);
   };
   std::array<int, 3> found{0, 0, 0};  // per axis: 0 none, 1 one direction (or a line), 2 a plane
   std::array<std::array<int, 2>, 3> first{};  // the first supporting direction, per axis
@@ -77,8 +83,7 @@ std::uint8_t VisibilityMap::faces(const VoxelKey& k, const Counts& c) const {
 void VisibilityMap::fit_surfaces() {
   std::vector<std::pair<VoxelKey, Counts*>> lines;
   for (auto it = cells_.begin(); it != cells_.end(); ++it) {
-    const Counts& c = it->second;
-    if (thin(c, 0) + thin(c, 1) + thin(c, 2) >= 2) lines.emplace_back(it->first, &it.value());
+    if (thin_axes(it->second) >= 2) lines.emplace_back(it->first, &it.value());
   }
   // Read the map side by side, write once all are read (a neighbour's box is never changed).
   std::vector<std::uint8_t> fitted(lines.size());
@@ -145,11 +150,9 @@ bool VisibilityMap::passes_hits(const CellSet::Key& k, const Eigen::Vector3d& fr
   const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
   if (it == cells_.end()) return false;
   const Counts& c = it->second;
-  const double res = config_.resolution, step = res / 256.0;
   auto reaches = [&](int a) {
-    const double base = (static_cast<int>(k[a]) - kOffset) * res;
-    const double lo = base + c.lo[a] * step - config_.extent_margin;
-    const double hi = base + (c.hi[a] + 1) * step + config_.extent_margin;
+    const auto level = hits_level(static_cast<int>(k[a]) - kOffset, c, a, config_.resolution);
+    const double lo = level.first - config_.extent_margin, hi = level.second + config_.extent_margin;
     const double za = from[a] + dir[a] * t0, zb = from[a] + dir[a] * t1;
     // Hit from one side only: beyond the level is inside what was hit, and passing there
     // crosses it (a ray under a roof's level goes through the car beneath it).

@@ -124,9 +124,10 @@ class VisibilityMap {
   tsl::robin_map<VoxelKey, Counts, VoxelKeyHash> cells_;
   bool surfaces_fitted_ = false;
   CellSet hit_cells_;  // the same cells as bits: most crossed cells were never hit, one bit says so
+  // The axes the hits of cell `k` face along (bit a), from its neighbours' hits.
+  std::uint8_t faces(const VoxelKey& k, const Counts& c) const;
   // Whether the segment (t in [t0, t1] along from + dir t) reaches, within extent_margin, the
   // level of the hits of cell `k` (OctoMap key) along an axis where they are thin.
-  std::uint8_t faces(const VoxelKey& k, const Counts& c) const;
   bool passes_hits(const CellSet::Key& k, const Eigen::Vector3d& from, const Eigen::Vector3d& dir, double t0,
                    double t1) const;
 };
