@@ -7,6 +7,7 @@
 
 #include "bench/bench_support.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
+#include "geometry/voxel_downsample.hpp"
 #include "simulation/synthetic_lidar.hpp"
 #include "odometry/deskew.hpp"
 
@@ -43,6 +44,27 @@ void scorer(benchmark::State& state, const char* mode, double voxel_size) {
   bench::report_latency(state, per_scan);
 }
 
+// The scorer's first step on each scan (and the visibility map's, the free-space vote's):
+// every point to its voxel's kept point. One thread, the stream's scans in turn.
+void downsample(benchmark::State& state, double voxel_size) {
+  const auto& scans = os1_stream();
+  std::size_t kept = 0, points = 0;
+  for (auto _ : state) {
+    for (const auto& scan : scans) {
+      const double voxel = voxel_size > 0 ? voxel_size : bounding_box_diagonal(scan.points) / 600.0;
+      const auto v = voxel_downsample_with_owners(scan.points, voxel);
+      kept += v.keep.size();
+      points += v.owner.size();
+      benchmark::DoNotOptimize(v.owner.data());
+    }
+  }
+  state.counters["kept_share"] = static_cast<double>(kept) / static_cast<double>(points);
+  state.counters["ns_per_point"] = benchmark::Counter(static_cast<double>(points),
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+BENCHMARK_CAPTURE(downsample, relative_voxel, 0.0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(downsample, voxel_0_2, 0.2)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(scorer, fast_relative_voxel, "fast", 0.0)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(scorer, exact_relative_voxel, "exact", 0.0)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK_CAPTURE(scorer, fast_voxel_0_1, "fast", 0.1)->Unit(benchmark::kSecond)->Iterations(1);
