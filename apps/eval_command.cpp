@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "apps/commands.hpp"
+#include "apps/box_truth_options.hpp"
 #include "apps/config_fields.hpp"
 #include "apps/map_truth.hpp"
 #include "apps/output_dir.hpp"
@@ -11,6 +12,7 @@
 #include "evaluation/box_labels.hpp"
 #include "evaluation/dynamic_metrics.hpp"
 #include "evaluation/map_metrics.hpp"
+#include "evaluation/object_motion.hpp"
 #include "evaluation/trajectory_metrics.hpp"
 #include "io/cloud_file.hpp"
 #include "io/label_file.hpp"
@@ -100,9 +102,7 @@ void eval_trajectory(const TrajectoryArgs& a) {
 struct DynamicArgs {
   fs::path pred, gt, json, poses;
   double max_range = 0.0;
-  double speed = 0.5;
-  double speed_window = 1.0;
-  double box_margin = 0.1;
+  BoxTruthOptions box;
 };
 
 void eval_dynamic(const DynamicArgs& a) {
@@ -113,19 +113,17 @@ void eval_dynamic(const DynamicArgs& a) {
   if (!seq.has_labels() && !from_boxes) {
     fail(a.gt, "has neither labels/ (.label files) nor boxes/ (3D boxes) for ground truth");
   }
-  std::vector<std::vector<LabelBox>> boxes;
-  std::vector<std::vector<bool>> moving;
+  BoxTruth boxes;
   if (from_boxes) {
     if (!seq.has_poses()) fail(a.gt, "boxes need poses to tell moving objects: give --poses (e.g. a run's poses.txt)");
-    boxes = read_sequence_boxes(a.gt / "boxes", seq.scans);
-    moving = moving_boxes(boxes, seq.poses, seq.times, a.speed, a.speed_window);
+    boxes = box_truth(seq, a.gt / "boxes", a.box);
     std::size_t n_moving = 0, n_boxes = 0;
-    for (const auto& m : moving) {
+    for (const auto& m : boxes.moving) {
       n_boxes += m.size();
       for (bool b : m) n_moving += b;
     }
-    std::printf("ground truth from boxes: %zu of %zu boxes moving faster than %.2f m/s\n", n_moving,
-                n_boxes, a.speed);
+    std::printf("ground truth from boxes: %zu of %zu boxes moving faster than %.2f m/s (%zu speeds measured on the objects' points)\n",
+                n_moving, n_boxes, a.box.speed, boxes.measured);
   }
   const fs::path dir = fs::is_directory(a.pred / "labels") ? a.pred / "labels" : a.pred;
   MovingConfusion total;
@@ -133,7 +131,7 @@ void eval_dynamic(const DynamicArgs& a) {
   for (std::size_t i = 0; i < seq.size(); ++i) {
     if (!from_boxes && seq.labels[i].empty()) continue;
     const Scan scan = read_raw_scan(seq, i);
-    const auto truth = from_boxes ? labels_from_boxes(scan, boxes[i], moving[i], a.box_margin)
+    const auto truth = from_boxes ? labels_from_boxes(scan, boxes.boxes[i], boxes.moving[i], a.box.margin)
                                   : read_labels(seq.labels[i], scan.size());
     const auto pred_file = dir / (seq.scans[i].stem().string() + ".label");
     if (!fs::exists(pred_file)) fail(pred_file, "missing: no prediction for a labelled scan");
@@ -198,12 +196,7 @@ void register_eval(CLI::App& app) {
   dc->add_option("--pred", d->pred, "Folder of predicted .label files (or a run/score output)")->required();
   dc->add_option("--gt", d->gt, "Sequence folder with labels/ (or boxes/ and --poses)")->required();
   dc->add_option("--poses", d->poses, "Poses for box ground truth (e.g. a run's poses.txt)");
-  dc->add_option("--speed", d->speed, "Boxes faster than this (m/s, world frame) are moving")
-      ->check(number_in(kNonNegative))->capture_default_str();
-  dc->add_option("--speed-window", d->speed_window, "Box speed from a line fitted over this many seconds (0: neighbouring scans)")
-      ->check(number_in(kNonNegative))->capture_default_str();
-  dc->add_option("--box-margin", d->box_margin, "Boxes grown by this on every side, m")
-      ->check(number_in(kNonNegative))->capture_default_str();
+  add_box_truth_options(*dc, d->box);
   dc->add_option("--max-range", d->max_range, "Only points within this range, m (0 = all)")
       ->check(number_in(kNonNegative))->capture_default_str();
   dc->add_option("--json", d->json, "Also write the numbers to this JSON file");

@@ -5,6 +5,7 @@
 // `cleanmap eval map --gt OUT/gt_cloud.pcd --output RUN/map_static.pcd` scores the result.
 //
 //   dynamicmap_layout --input SEQ --out DIR [--poses FILE] [--speed 0.5] [--speed-window 1] [--box-margin 0.1]
+//                     [--box-speed points|centres]
 //                     [--time-from-azimuth [--pose-reference middle]]
 //
 // With --time-from-azimuth (scans without per-point time, as a preset with time_from_azimuth
@@ -24,9 +25,11 @@
 #include <string>
 #include <vector>
 
+#include "apps/box_truth_options.hpp"
 #include "apps/config_fields.hpp"
 #include "apps/run_inputs.hpp"
 #include "evaluation/box_labels.hpp"
+#include "evaluation/object_motion.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
 #include "io/label_file.hpp"
@@ -41,27 +44,22 @@ namespace {
 
 struct Args {
   fs::path input, out, poses;
-  double speed = 0.5;
-  double speed_window = 1.0;
-  double box_margin = 0.1;
-  bool time_from_azimuth = false;
-  double pose_reference = 0.5;  // where in its sweep a scan's pose sits: 0 start, 0.5 middle, 1 end
+  BoxTruthOptions box;
 };
 
 // Per-point truth of scan i, 1 = moving.
 class Truth {
  public:
-  Truth(const Sequence& seq, const Args& a) : seq_(seq), margin_(a.box_margin) {
+  Truth(const Sequence& seq, const Args& a) : seq_(seq), margin_(a.box.margin) {
     if (seq.has_labels()) return;
     if (!fs::is_directory(a.input / "boxes")) {
       throw Error(a.input.string() + ": has neither labels/ (.label files) nor boxes/ (3D boxes)");
     }
-    boxes_ = read_sequence_boxes(a.input / "boxes", seq.scans);
-    moving_ = moving_boxes(boxes_, seq.poses, seq.times, a.speed, a.speed_window);
+    boxes_ = box_truth(seq, a.input / "boxes", a.box);
   }
   std::vector<std::uint8_t> of(std::size_t i, const Scan& raw) const {
-    const auto labels = boxes_.empty() ? read_labels(seq_.labels[i], raw.size())
-                                       : labels_from_boxes(raw, boxes_[i], moving_[i], margin_);
+    const auto labels = boxes_.boxes.empty() ? read_labels(seq_.labels[i], raw.size())
+                                             : labels_from_boxes(raw, boxes_.boxes[i], boxes_.moving[i], margin_);
     std::vector<std::uint8_t> out(labels.size());
     for (std::size_t k = 0; k < labels.size(); ++k) out[k] = is_moving_label(labels[k]) ? 1 : 0;
     return out;
@@ -70,8 +68,7 @@ class Truth {
  private:
   const Sequence& seq_;
   double margin_;
-  std::vector<std::vector<LabelBox>> boxes_;
-  std::vector<std::vector<bool>> moving_;
+  BoxTruth boxes_;
 };
 
 void convert(const Args& a) {
@@ -100,13 +97,9 @@ void convert(const Args& a) {
       keep.push_back(static_cast<std::int32_t>(k));
     }
     Scan world = select_points(raw, keep);
-    if (a.time_from_azimuth && !world.has_time() && !world.empty()) {
-      const double sweep = i + 1 < seq.size() ? seq.times[i + 1] - seq.times[i] : i > 0 ? seq.times[i] - seq.times[i - 1] : 0.1;
-      // The pose sits where the run that wrote it put it (deskew_reference), a share of the
-      // sweep's last point time, as the run measures it.
-      world.time = times_from_azimuth(world.points, sweep);
-      world.time.array() -= static_cast<float>(a.pose_reference) * world.time.maxCoeff();
-      world.points = to_world(world, sweep_motion(seq.poses, seq.times, i)).points;
+    if (a.box.time_from_azimuth && !world.has_time()) {
+      // The pose sits where the run that wrote it put it (deskew_reference).
+      world.points = place_by_azimuth(world.points, seq.poses, seq.times, i, a.box.pose_reference);
     } else {
       world.points = (seq.poses[i].cast<float>() * world.points).eval();
     }
@@ -139,18 +132,7 @@ int main(int argc, char** argv) {
   app.add_option("--input", a.input, "Sequence with labels/ or boxes/")->required();
   app.add_option("--out", a.out, "Output folder")->required();
   app.add_option("--poses", a.poses, "Pose file (default: the sequence's poses.txt)");
-  app.add_option("--speed", a.speed, "Boxes faster than this (m/s, world frame) are moving")
-      ->check(app::number_in(app::kNonNegative))->capture_default_str();
-  app.add_option("--speed-window", a.speed_window, "Box speed from a line fitted over this many seconds (0: neighbouring scans)")
-      ->check(app::number_in(app::kNonNegative))->capture_default_str();
-  app.add_option("--box-margin", a.box_margin, "Boxes grown by this on every side, m")
-      ->check(app::number_in(app::kNonNegative))->capture_default_str();
-  app.add_flag("--time-from-azimuth", a.time_from_azimuth, "Place points at their time (from azimuth) along the poses");
-  const std::map<std::string, double> reference{{"start", 0.0}, {"middle", 0.5}, {"end", 1.0}};
-  app.add_option("--pose-reference", a.pose_reference,
-                 "Where in its sweep each pose sits, as the run that wrote the poses (deskew_reference): start, middle, end")
-      ->transform(CLI::CheckedTransformer(reference))
-      ->default_str("middle");
+  app::add_box_truth_options(app, a.box);
   CLI11_PARSE(app, argc, argv);
   try {
     convert(a);

@@ -82,7 +82,8 @@ double fitted_speed(const Track& t, std::size_t i, const std::vector<double>& ti
 std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelBox>>& boxes,
                                             const std::vector<Eigen::Isometry3d>& poses,
                                             const std::vector<double>& times,
-                                            double speed_threshold, double window) {
+                                            double speed_threshold, double window,
+                                            const std::vector<std::vector<double>>* measured) {
   if (!std::isfinite(speed_threshold) || speed_threshold < 0) throw Error("box speed threshold must be a finite number >= 0");
   if (!std::isfinite(window) || window < 0) throw Error("box speed window must be a finite number >= 0 (s)");
   std::map<std::string, Track> track;
@@ -91,8 +92,13 @@ std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelB
   }
   std::vector<std::vector<bool>> moving(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
-    for (const auto& b : boxes[i]) {
-      const Track& t = track[b.id];
+    for (std::size_t k = 0; k < boxes[i].size(); ++k) {
+      const double known = measured ? measured->at(i).at(k) : NAN;
+      if (std::isfinite(known)) {
+        moving[i].push_back(known > speed_threshold);
+        continue;
+      }
+      const Track& t = track[boxes[i][k].id];
       const double speed = window > 0 ? fitted_speed(t, i, times, window / 2) : central_speed(t, i, times);
       moving[i].push_back(speed > speed_threshold);
     }

@@ -35,10 +35,13 @@ std::vector<std::vector<LabelBox>> read_sequence_boxes(const std::filesystem::pa
 // 0.02-0.1 m/s) came out at 2-5 m/s from neighbouring scans, moving in most scans. The line
 // over 1 s (11 scans at 10 Hz) takes 0.2 m of jitter down to about 0.2 m/s, under the
 // threshold. window 0: central differences between the neighbouring sightings, as before.
+// `measured[i][k]`, where given and finite, is box k of scan i's speed measured otherwise (on
+// the object's own points: object_motion.hpp) and takes the place of the centres' speed.
 std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelBox>>& boxes,
                                             const std::vector<Eigen::Isometry3d>& poses,
                                             const std::vector<double>& times,
-                                            double speed_threshold, double window = 1.0);
+                                            double speed_threshold, double window = 1.0,
+                                            const std::vector<std::vector<double>>* measured = nullptr);
 
 // MOS labels for a sensor-frame scan: 251 for points inside a moving box (grown by `margin`
 // metres on every side), 9 otherwise.

@@ -1,5 +1,7 @@
 #include "odometry/deskew.hpp"
 
+#include "odometry/preprocess.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <limits>
@@ -67,6 +69,18 @@ std::vector<Scan> to_world(const std::vector<Scan>& scans) {
   std::vector<Scan> out;
   for (std::size_t i = 0; i < scans.size(); ++i) out.push_back(to_world(scans[i], sweep_motion(poses, times, i)));
   return out;
+}
+
+Eigen::Matrix3Xf place_by_azimuth(const Eigen::Matrix3Xf& points, const std::vector<Eigen::Isometry3d>& poses,
+                                  const std::vector<double>& times, std::size_t i, double pose_reference) {
+  if (points.cols() == 0) return points;
+  const std::size_t n = times.size();
+  const double sweep = i + 1 < n ? times[i + 1] - times[i] : i > 0 ? times[i] - times[i - 1] : 0.1;
+  Scan scan;
+  scan.points = points;
+  scan.time = times_from_azimuth(points, sweep);
+  scan.time.array() -= static_cast<float>(pose_reference) * scan.time.maxCoeff();
+  return to_world(scan, sweep_motion(poses, times, i)).points;
 }
 
 Scan deskew(const Scan& scan, const SweepMotion& motion, double t_ref) {

@@ -30,6 +30,15 @@ Scan to_world(const Scan& scan, const SweepMotion& motion);
 // world with each point's pose at its own capture time (sweep_motion between neighbours).
 std::vector<Scan> to_world(const std::vector<Scan>& scans);
 
+// Scan i of a sequence (finite points, sensor frame, no per-point time: a spinning lidar's raw
+// sweep) in the world frame, each point placed with the pose at its time from azimuth
+// (times_from_azimuth, the sweep as long as the gap to the next stamp), counted from where the
+// poses sit in their sweep: `pose_reference` of its last point's time (0.5: `run`'s mid-sweep
+// poses). Raw scans put on a deskewing run's poses rigidly smear by up to half the sweep's
+// travel (0.3 m at 6 m/s).
+Eigen::Matrix3Xf place_by_azimuth(const Eigen::Matrix3Xf& points, const std::vector<Eigen::Isometry3d>& poses,
+                                  const std::vector<double>& times, std::size_t i, double pose_reference);
+
 // Undistorts a scan into the sensor frame at reference time `t_ref` (seconds relative to the
 // stamp): p' = T(t_ref)^-1 T(t_i) p_i. A no-op without per-point times.
 Scan deskew(const Scan& scan, const SweepMotion& motion, double t_ref);

@@ -1,0 +1,208 @@
+#include "evaluation/object_motion.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+
+#include "geometry/point_index.hpp"
+#include "odometry/deskew.hpp"
+
+namespace cleanmap {
+
+std::vector<Eigen::Matrix3Xf> points_in_boxes(const Eigen::Matrix3Xf& sensor, const Eigen::Matrix3Xf& world,
+                                              const std::vector<LabelBox>& boxes, double margin,
+                                              double ground_band) {
+  std::vector<Eigen::Matrix3Xf> out;
+  out.reserve(boxes.size());
+  for (const auto& b : boxes) {
+    const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d half = b.size / 2 + Eigen::Vector3d::Constant(margin);
+    const double floor = -half.z() + ground_band;
+    std::vector<Eigen::Index> inside;
+    for (Eigen::Index i = 0; i < sensor.cols(); ++i) {
+      const Eigen::Vector3d q = to_box * (sensor.col(i).cast<double>() - b.centre);
+      if ((q.cwiseAbs().array() <= half.array()).all() && q.z() > floor) inside.push_back(i);
+    }
+    out.emplace_back(world(Eigen::all, inside));
+  }
+  return out;
+}
+
+namespace {
+
+// At most this many points of `from` take part: the shift of a whole truck is as well fixed by
+// 2000 of its points as by 40,000, at a twentieth of the nearest-neighbour searches.
+constexpr Eigen::Index kMaxFromPoints = 2000;
+constexpr int kMaxSteps = 40;
+// Pairs count while closer than a reach that starts at 1 m (twice a hand-drawn box's worst
+// jitter, so the guess's error is within it) and shrinks by a fifth a step to 0.1 m, where
+// what a point's sampling and range noise give stays in.
+constexpr double kFirstReach = 1.0;  // m
+constexpr double kReachShrink = 0.8;
+constexpr double kMinReach = 0.1;    // m
+constexpr double kConverged = 1e-5;  // m
+// A target point's surface normal from its neighbours within this radius (at least 5 of
+// them): the plane of a truck's side, not the few cm between two scan lines.
+constexpr float kNormalRadius = 0.3f;  // m
+constexpr std::size_t kMinNormalPoints = 5;
+
+double median(std::vector<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Unit normals of `to`'s points (zero where too few neighbours give one).
+std::vector<Eigen::Vector3d> normals_of(const Eigen::Matrix3Xf& to, const PointIndex& index) {
+  std::vector<Eigen::Vector3d> normals(static_cast<std::size_t>(to.cols()), Eigen::Vector3d::Zero());
+  tbb::parallel_for(Eigen::Index{0}, to.cols(), [&](Eigen::Index i) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    std::size_t n = 0;
+    index.for_each_within(to.col(i), kNormalRadius, [&](std::uint32_t j, float) {
+      const Eigen::Vector3d q = to.col(static_cast<Eigen::Index>(j)).cast<double>();
+      sum += q;
+      outer += q * q.transpose();
+      ++n;
+    });
+    if (n < kMinNormalPoints) return;
+    const Eigen::Vector3d mean = sum / static_cast<double>(n);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(outer / static_cast<double>(n) - mean * mean.transpose());
+    normals[static_cast<std::size_t>(i)] = eig.eigenvectors().col(0);
+  });
+  return normals;
+}
+
+// Point-to-plane steps: each fixes the shift along the normals of the surfaces it pairs with,
+// so a truck's side fixes the across, its rear the along and its roof the height, all at once.
+// Point-to-point steps moved along a side only by what its rear's fifth of the points pulled,
+// and stopped 0.3 m short.
+ObjectShift icp_from(const Eigen::Matrix3Xf& from, const Eigen::Matrix3Xf& to, const PointIndex& index,
+                     const std::vector<Eigen::Vector3d>& normals, const Eigen::Vector3d& start) {
+  ObjectShift s;
+  s.translation = start;
+  const auto n = static_cast<std::size_t>(from.cols());
+  std::vector<double> dist(n);
+  std::vector<std::uint32_t> pair(n);
+  bool converged = false;
+  for (int step = 0;; ++step) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d p = from.col(static_cast<Eigen::Index>(i)).cast<double>() + s.translation;
+      const auto nn = index.nearest(p.cast<float>());
+      pair[i] = nn->first;
+      dist[i] = std::sqrt(static_cast<double>(nn->second));
+    }
+    s.residual = median(dist);  // at the current shift: the pairing after the last move
+    if (converged || step == kMaxSteps) break;
+    const double reach = std::max(kMinReach, kFirstReach * std::pow(kReachShrink, step));
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d& normal = normals[pair[i]];
+      if (dist[i] > reach || normal.isZero()) continue;
+      const Eigen::Vector3d p = from.col(static_cast<Eigen::Index>(i)).cast<double>() + s.translation;
+      const Eigen::Vector3d q = to.col(static_cast<Eigen::Index>(pair[i])).cast<double>();
+      a += normal * normal.transpose();
+      b += normal * normal.dot(q - p);
+    }
+    // A direction no surface constrains (a lone wall's along) keeps its shift: the small
+    // ridge only makes the solve well posed.
+    a += Eigen::Matrix3d::Identity() * (1e-6 * (a.trace() + 1e-9));
+    const Eigen::Vector3d move = a.ldlt().solve(b);
+    s.translation += move;
+    converged = move.norm() < kConverged && reach == kMinReach;
+  }
+  return s;
+}
+
+}  // namespace
+
+std::optional<ObjectShift> register_object(const Eigen::Matrix3Xf& from, const Eigen::Matrix3Xf& to,
+                                           const Eigen::Vector3d& guess) {
+  if (from.cols() == 0 || to.cols() == 0) return std::nullopt;
+  const Eigen::Index stride = (from.cols() + kMaxFromPoints - 1) / kMaxFromPoints;
+  const Eigen::Matrix3Xf sample = from(Eigen::all, Eigen::seq(0, from.cols() - 1, stride));
+  const PointIndex index(to);
+  const auto normals = normals_of(to, index);
+  const ObjectShift a = icp_from(sample, to, index, normals, guess);
+  const ObjectShift b = icp_from(sample, to, index, normals, Eigen::Vector3d::Zero());
+  return b.residual < a.residual ? b : a;
+}
+
+std::vector<std::vector<double>> object_speeds(const std::vector<std::vector<LabelBox>>& boxes,
+                                               const std::vector<std::vector<Eigen::Matrix3Xf>>& points,
+                                               const std::vector<Eigen::Isometry3d>& poses,
+                                               const std::vector<double>& times, double window,
+                                               const ObjectMotionConfig& config) {
+  std::map<std::string, std::map<std::size_t, std::size_t>> track;  // id -> scan -> box index
+  std::vector<std::pair<std::size_t, std::size_t>> jobs;             // (scan, box)
+  std::vector<std::vector<double>> speed(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    speed[i].assign(boxes[i].size(), std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < boxes[i].size(); ++k) {
+      track[boxes[i][k].id][i] = k;
+      jobs.emplace_back(i, k);
+    }
+  }
+  const double half = window / 2 + 1e-6;  // stamps are rounded in their files
+  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
+    const auto [i, k] = jobs[j];
+    const auto& t = track.at(boxes[i][k].id);
+    std::size_t a = i, b = i;
+    for (const auto& [scan, box] : t) {
+      if (std::abs(times.at(scan) - times.at(i)) > half) continue;
+      a = std::min(a, scan);
+      b = std::max(b, scan);
+    }
+    if (a == b) return;
+    const auto& pa = points.at(a).at(t.at(a));
+    const auto& pb = points.at(b).at(t.at(b));
+    if (static_cast<std::size_t>(pa.cols()) < config.min_points ||
+        static_cast<std::size_t>(pb.cols()) < config.min_points) {
+      return;
+    }
+    const Eigen::Vector3d guess = poses.at(b) * boxes[b][t.at(b)].centre - poses.at(a) * boxes[a][t.at(a)].centre;
+    const auto shift = register_object(pa, pb, guess);
+    const double dt = times.at(b) - times.at(a);
+    if (!shift || shift->residual > config.max_residual || !(dt > 0)) return;
+    speed[i][k] = shift->translation.norm() / dt;
+  });
+  return speed;
+}
+
+
+BoxTruth box_truth(const Sequence& sequence, const std::filesystem::path& boxes_dir,
+                   const BoxTruthOptions& options) {
+  BoxTruth truth;
+  truth.boxes = read_sequence_boxes(boxes_dir, sequence.scans);
+  std::vector<std::vector<double>> speeds;
+  if (options.source == BoxSpeedSource::kPoints) {
+    std::vector<std::vector<Eigen::Matrix3Xf>> points(sequence.size());
+    for (std::size_t i = 0; i < sequence.size(); ++i) {
+      if (truth.boxes[i].empty()) continue;
+      Scan scan = read_raw_scan(sequence, i);
+      drop_non_finite(scan);
+      const Eigen::Matrix3Xf world =
+          options.time_from_azimuth && !scan.has_time()
+              ? place_by_azimuth(scan.points, sequence.poses, sequence.times, i, options.pose_reference)
+              : to_world(scan, sweep_motion(sequence.poses, sequence.times, i)).points;
+      points[i] = points_in_boxes(scan.points, world, truth.boxes[i], options.margin);
+    }
+    speeds = object_speeds(truth.boxes, points, sequence.poses, sequence.times, options.window);
+    for (const auto& s : speeds) {
+      for (const double v : s) truth.measured += std::isfinite(v);
+    }
+  }
+  truth.moving = moving_boxes(truth.boxes, sequence.poses, sequence.times, options.speed, options.window,
+                              speeds.empty() ? nullptr : &speeds);
+  return truth;
+}
+
+}  // namespace cleanmap
