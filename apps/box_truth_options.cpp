@@ -22,6 +22,12 @@ void add_box_truth_options(CLI::App& command, BoxTruthOptions& options) {
                      "own points, registered across the window; centres where they cannot be)")
       ->transform(CLI::CheckedTransformer(sources))
       ->default_str("centres");
+  const std::map<std::string, bool> moving{{"scan", false}, {"track", true}};
+  command.add_option("--box-moving", options.whole_track,
+                     "When a box is moving: scan (while its object moves) or track (in every scan, once its object "
+                     "moved in any)")
+      ->transform(CLI::CheckedTransformer(moving))
+      ->default_str("scan");
   command.add_flag("--time-from-azimuth", options.time_from_azimuth,
                    "Raw sweeps without per-point time: place each point with the pose at its time from azimuth");
   const std::map<std::string, double> reference{{"start", 0.0}, {"middle", 0.5}, {"end", 1.0}};

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "io/error.hpp"
@@ -104,6 +105,21 @@ std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelB
     }
   }
   return moving;
+}
+
+std::vector<std::vector<bool>> moving_tracks(const std::vector<std::vector<LabelBox>>& boxes,
+                                             const std::vector<std::vector<bool>>& moving) {
+  std::set<std::string> movers;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t k = 0; k < boxes[i].size(); ++k) {
+      if (moving.at(i).at(k)) movers.insert(boxes[i][k].id);
+    }
+  }
+  std::vector<std::vector<bool>> out(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (const auto& b : boxes[i]) out[i].push_back(movers.count(b.id) > 0);
+  }
+  return out;
 }
 
 std::vector<std::uint32_t> labels_from_boxes(const Scan& scan, const std::vector<LabelBox>& boxes,

@@ -43,6 +43,11 @@ std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelB
                                             double speed_threshold, double window = 1.0,
                                             const std::vector<std::vector<double>>* measured = nullptr);
 
+// Every box of an object that moves in any scan (`moving`, per scan and box) marked moving in
+// every scan: the object's whole track, once it moved at all.
+std::vector<std::vector<bool>> moving_tracks(const std::vector<std::vector<LabelBox>>& boxes,
+                                             const std::vector<std::vector<bool>>& moving);
+
 // MOS labels for a sensor-frame scan: 251 for points inside a moving box (grown by `margin`
 // metres on every side), 9 otherwise.
 std::vector<std::uint32_t> labels_from_boxes(const Scan& scan, const std::vector<LabelBox>& boxes,

@@ -47,6 +47,9 @@ constexpr double kFirstReach = 1.0;  // m
 constexpr double kReachShrink = 0.8;
 constexpr double kMinReach = 0.1;    // m
 constexpr double kConverged = 1e-5;  // m
+// The two starts end this far apart with fits this alike: the points do not tell the shift.
+constexpr double kAgree = 0.1;     // m
+constexpr double kSameFit = 0.01;  // m
 // A target point's surface normal from its neighbours within this radius (at least 5 of
 // them): the plane of a truck's side, not the few cm between two scan lines.
 constexpr float kNormalRadius = 0.3f;  // m
@@ -80,8 +83,8 @@ std::vector<Eigen::Vector3d> normals_of(const Eigen::Matrix3Xf& to, const PointI
   return normals;
 }
 
-// Point-to-plane steps: each fixes the shift along the normals of the surfaces it pairs with,
-// so a truck's side fixes the across, its rear the along and its roof the height, all at once.
+// Point-to-plane steps in the horizontal: each fixes the shift along the normals of the
+// surfaces it pairs with, so a truck's side fixes the across and its rear the along at once.
 // Point-to-point steps moved along a side only by what its rear's fifth of the points pulled,
 // and stopped 0.3 m short.
 ObjectShift icp_from(const Eigen::Matrix3Xf& from, const Eigen::Matrix3Xf& to, const PointIndex& index,
@@ -102,21 +105,22 @@ ObjectShift icp_from(const Eigen::Matrix3Xf& from, const Eigen::Matrix3Xf& to, c
     s.residual = median(dist);  // at the current shift: the pairing after the last move
     if (converged || step == kMaxSteps) break;
     const double reach = std::max(kMinReach, kFirstReach * std::pow(kReachShrink, step));
-    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    Eigen::Matrix2d a = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d b = Eigen::Vector2d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d& normal = normals[pair[i]];
       if (dist[i] > reach || normal.isZero()) continue;
       const Eigen::Vector3d p = from.col(static_cast<Eigen::Index>(i)).cast<double>() + s.translation;
       const Eigen::Vector3d q = to.col(static_cast<Eigen::Index>(pair[i])).cast<double>();
-      a += normal * normal.transpose();
-      b += normal * normal.dot(q - p);
+      const Eigen::Vector2d horizontal = normal.head<2>();
+      a += horizontal * horizontal.transpose();
+      b += horizontal * normal.dot(q - p);
     }
     // A direction no surface constrains (a lone wall's along) keeps its shift: the small
     // ridge only makes the solve well posed.
-    a += Eigen::Matrix3d::Identity() * (1e-6 * (a.trace() + 1e-9));
-    const Eigen::Vector3d move = a.ldlt().solve(b);
-    s.translation += move;
+    a += Eigen::Matrix2d::Identity() * (1e-6 * (a.trace() + 1e-9));
+    const Eigen::Vector2d move = a.ldlt().solve(b);
+    s.translation.head<2>() += move;
     converged = move.norm() < kConverged && reach == kMinReach;
   }
   return s;
@@ -131,9 +135,11 @@ std::optional<ObjectShift> register_object(const Eigen::Matrix3Xf& from, const E
   const Eigen::Matrix3Xf sample = from(Eigen::all, Eigen::seq(0, from.cols() - 1, stride));
   const PointIndex index(to);
   const auto normals = normals_of(to, index);
-  const ObjectShift a = icp_from(sample, to, index, normals, guess);
-  const ObjectShift b = icp_from(sample, to, index, normals, Eigen::Vector3d::Zero());
-  return b.residual < a.residual ? b : a;
+  const ObjectShift a = icp_from(sample, to, index, normals, Eigen::Vector3d(guess.x(), guess.y(), 0.0));
+  ObjectShift b = icp_from(sample, to, index, normals, Eigen::Vector3d::Zero());
+  ObjectShift best = b.residual < a.residual ? b : a;
+  best.ambiguous = (a.translation - b.translation).norm() > kAgree && std::abs(a.residual - b.residual) < kSameFit;
+  return best;
 }
 
 std::vector<std::vector<double>> object_speeds(const std::vector<std::vector<LabelBox>>& boxes,
@@ -141,42 +147,63 @@ std::vector<std::vector<double>> object_speeds(const std::vector<std::vector<Lab
                                                const std::vector<Eigen::Isometry3d>& poses,
                                                const std::vector<double>& times, double window,
                                                const ObjectMotionConfig& config) {
+  // Each track's links: from one sighting to the next, registered on their points.
+  struct Link {
+    std::size_t from_scan, from_box, to_scan, to_box;
+    std::optional<Eigen::Vector3d> shift;
+  };
   std::map<std::string, std::map<std::size_t, std::size_t>> track;  // id -> scan -> box index
-  std::vector<std::pair<std::size_t, std::size_t>> jobs;             // (scan, box)
-  std::vector<std::vector<double>> speed(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
-    speed[i].assign(boxes[i].size(), std::numeric_limits<double>::quiet_NaN());
-    for (std::size_t k = 0; k < boxes[i].size(); ++k) {
-      track[boxes[i][k].id][i] = k;
-      jobs.emplace_back(i, k);
+    for (std::size_t k = 0; k < boxes[i].size(); ++k) track[boxes[i][k].id][i] = k;
+  }
+  std::vector<Link> links;
+  std::map<std::pair<std::string, std::size_t>, std::size_t> link_from;  // (id, scan) -> its link
+  for (const auto& [id, t] : track) {
+    for (auto it = t.begin(); std::next(it) != t.end(); ++it) {
+      link_from[{id, it->first}] = links.size();
+      links.push_back({it->first, it->second, std::next(it)->first, std::next(it)->second, std::nullopt});
     }
   }
-  const double half = window / 2 + 1e-6;  // stamps are rounded in their files
-  tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t j) {
-    const auto [i, k] = jobs[j];
-    const auto& t = track.at(boxes[i][k].id);
-    std::size_t a = i, b = i;
-    for (const auto& [scan, box] : t) {
-      if (std::abs(times.at(scan) - times.at(i)) > half) continue;
-      a = std::min(a, scan);
-      b = std::max(b, scan);
-    }
-    if (a == b) return;
-    const auto& pa = points.at(a).at(t.at(a));
-    const auto& pb = points.at(b).at(t.at(b));
+  tbb::parallel_for(std::size_t{0}, links.size(), [&](std::size_t j) {
+    Link& l = links[j];
+    const auto& pa = points.at(l.from_scan).at(l.from_box);
+    const auto& pb = points.at(l.to_scan).at(l.to_box);
     if (static_cast<std::size_t>(pa.cols()) < config.min_points ||
         static_cast<std::size_t>(pb.cols()) < config.min_points) {
       return;
     }
-    const Eigen::Vector3d guess = poses.at(b) * boxes[b][t.at(b)].centre - poses.at(a) * boxes[a][t.at(a)].centre;
+    const Eigen::Vector3d guess = poses.at(l.to_scan) * boxes[l.to_scan][l.to_box].centre -
+                                  poses.at(l.from_scan) * boxes[l.from_scan][l.from_box].centre;
     const auto shift = register_object(pa, pb, guess);
-    const double dt = times.at(b) - times.at(a);
-    if (!shift || shift->residual > config.max_residual || !(dt > 0)) return;
-    speed[i][k] = shift->translation.norm() / dt;
+    if (shift && !shift->ambiguous && shift->residual <= config.max_residual) l.shift = shift->translation;
   });
+  const double half = window / 2 + 1e-6;  // stamps are rounded in their files
+  std::vector<std::vector<double>> speed(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    speed[i].assign(boxes[i].size(), std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < boxes[i].size(); ++k) {
+      const std::string& id = boxes[i][k].id;
+      std::size_t a = i, b = i;
+      for (const auto& sighting : track.at(id)) {
+        if (std::abs(times.at(sighting.first) - times.at(i)) > half) continue;
+        a = std::min(a, sighting.first);
+        b = std::max(b, sighting.first);
+      }
+      const double dt = times.at(b) - times.at(a);
+      if (a == b || !(dt > 0)) continue;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      bool whole = true;
+      for (std::size_t scan = a; whole && scan != b;) {
+        const Link& l = links[link_from.at({id, scan})];
+        whole = l.shift.has_value();
+        if (whole) sum += *l.shift;
+        scan = l.to_scan;
+      }
+      if (whole) speed[i][k] = sum.norm() / dt;
+    }
+  }
   return speed;
 }
-
 
 BoxTruth box_truth(const Sequence& sequence, const std::filesystem::path& boxes_dir,
                    const BoxTruthOptions& options) {
@@ -202,6 +229,7 @@ BoxTruth box_truth(const Sequence& sequence, const std::filesystem::path& boxes_
   }
   truth.moving = moving_boxes(truth.boxes, sequence.poses, sequence.times, options.speed, options.window,
                               speeds.empty() ? nullptr : &speeds);
+  if (options.whole_track) truth.moving = moving_tracks(truth.boxes, truth.moving);
   return truth;
 }
 

@@ -65,6 +65,18 @@ TEST(MovingBoxes, ABoxSeenTwiceFallsBackToItsNeighbour) {
   EXPECT_TRUE(m[1].at(0));
 }
 
+TEST(MovingBoxes, AWholeTrackMovesOnceItsObjectMovedInAnyScan) {
+  // A truck that drives in and stops (moving only in scan 0), a parked car (never moving).
+  LabelBox truck, car;
+  truck.id = "100";
+  car.id = "7";
+  const std::vector<std::vector<LabelBox>> boxes{{truck, car}, {car, truck}, {truck}};
+  const std::vector<std::vector<bool>> per_scan{{true, false}, {false, false}, {false}};
+  const auto track = moving_tracks(boxes, per_scan);
+  const std::vector<std::vector<bool>> expected{{true, false}, {false, true}, {true}};
+  EXPECT_EQ(track, expected);
+}
+
 TEST(MovingBoxes, ANonFiniteOrNegativeSpeedOrWindowIsRefused) {
   // A NaN window compares false everywhere: every box would be neither fitted nor differenced.
   const Log log = track(1.0, 0.0);
