@@ -35,7 +35,6 @@
 #include "io/label_file.hpp"
 #include "io/sequence.hpp"
 #include "odometry/deskew.hpp"
-#include "odometry/preprocess.hpp"
 
 namespace fs = std::filesystem;
 using namespace cleanmap;

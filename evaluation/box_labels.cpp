@@ -127,12 +127,9 @@ std::vector<std::uint32_t> labels_from_boxes(const Scan& scan, const std::vector
   std::vector<std::uint32_t> labels(scan.size(), kLabelStatic);
   for (std::size_t k = 0; k < boxes.size(); ++k) {
     if (!moving[k]) continue;
-    const auto& b = boxes[k];
-    const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    const Eigen::Vector3d half = b.size / 2 + Eigen::Vector3d::Constant(margin);
+    const GrownBox box(boxes[k], margin);
     for (std::size_t i = 0; i < scan.size(); ++i) {
-      const Eigen::Vector3d p = to_box * (scan.points.col(static_cast<Eigen::Index>(i)).cast<double>() - b.centre);
-      if ((p.cwiseAbs().array() <= half.array()).all()) labels[i] = kLabelMoving;
+      if (box.contains(box.local(scan.points.col(static_cast<Eigen::Index>(i))))) labels[i] = kLabelMoving;
     }
   }
   return labels;

@@ -20,6 +20,19 @@ struct LabelBox {
   Eigen::Vector3d size = Eigen::Vector3d::Zero();  // length, width, height
 };
 
+// A box grown by `margin` metres on every side, with the frame to test points in: `local(p)`
+// is a sensor-frame point in the box's frame (centred, yaw undone), `contains` tests that.
+struct GrownBox {
+  GrownBox(const LabelBox& box, double margin)
+      : to_box(Eigen::AngleAxisd(-box.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix()),
+        centre(box.centre),
+        half(box.size / 2 + Eigen::Vector3d::Constant(margin)) {}
+  Eigen::Vector3d local(const Eigen::Vector3f& p) const { return to_box * (p.cast<double>() - centre); }
+  bool contains(const Eigen::Vector3d& q) const { return (q.cwiseAbs().array() <= half.array()).all(); }
+  Eigen::Matrix3d to_box;
+  Eigen::Vector3d centre, half;
+};
+
 std::vector<LabelBox> read_boxes(const std::filesystem::path& file);
 
 // The boxes of each scan of a sequence: `boxes_dir`/<scan file stem>.json, none where that file

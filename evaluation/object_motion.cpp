@@ -21,13 +21,12 @@ std::vector<Eigen::Matrix3Xf> points_in_boxes(const Eigen::Matrix3Xf& sensor, co
   std::vector<Eigen::Matrix3Xf> out;
   out.reserve(boxes.size());
   for (const auto& b : boxes) {
-    const Eigen::Matrix3d to_box = Eigen::AngleAxisd(-b.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    const Eigen::Vector3d half = b.size / 2 + Eigen::Vector3d::Constant(margin);
-    const double floor = -half.z() + ground_band;
+    const GrownBox box(b, margin);
+    const double floor = -box.half.z() + ground_band;
     std::vector<Eigen::Index> inside;
     for (Eigen::Index i = 0; i < sensor.cols(); ++i) {
-      const Eigen::Vector3d q = to_box * (sensor.col(i).cast<double>() - b.centre);
-      if ((q.cwiseAbs().array() <= half.array()).all() && q.z() > floor) inside.push_back(i);
+      const Eigen::Vector3d q = box.local(sensor.col(i));
+      if (box.contains(q) && q.z() > floor) inside.push_back(i);
     }
     out.emplace_back(world(Eigen::all, inside));
   }
