@@ -55,6 +55,7 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   for (std::size_t i = 0; i < seq.size(); ++i) {
     LoadedScan loaded = load_scan(seq, i);
     if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
+    if (i == 0 && seq.size() > 1) odom.prime(loaded.scan, load_scan(seq, 1).scan);  // undistorts the first two sweeps too
     auto step = odom.register_scan(loaded.scan);
     reference_offset = step.reference_offset;
     stamped.push_back({loaded.scan.stamp + step.reference_offset, step.pose});

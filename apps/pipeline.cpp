@@ -167,6 +167,11 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   t = Clock::now();
   if (odom) {
     std::lock_guard<std::mutex> lock(odom_mutex);
+    if (index == 0 && seq.size() > 1) {  // the first step, so that the first two sweeps are undistorted too
+      LoadedScan next = load_scan(seq, 1);
+      drop_masked(next, mask);
+      odom->prime(loaded.scan, next.scan);
+    }
     auto step = odom->register_scan(loaded.scan);
     if (index == 0 && !step.note.empty()) std::fprintf(stderr, "%s: first scan: %s\n", opt.command.c_str(), step.note.c_str());
     item->world = std::move(step.deskewed);

@@ -15,8 +15,10 @@ struct Drift {
   double point_error = 0.0;  // m, mean distance of registered points from their true place
 };
 
-// Runs the odometry over the simulated street (64 x 1024, rolling shutter, 5 m/s).
-Drift synthetic_drift(bool deskew, int scans = 30) {
+// Runs the odometry over the simulated street (64 x 1024, rolling shutter, 5 m/s); the point
+// error is measured on scan `measured` (default: the last).
+Drift synthetic_drift(bool deskew, int scans = 30, int measured = -1, bool prime = true) {
+  if (measured < 0) measured = scans - 1;
   LidarModel lidar;
   lidar.columns = 1024;
   const auto world = make_street_world(2);
@@ -25,6 +27,7 @@ Drift synthetic_drift(bool deskew, int scans = 30) {
   LidarOdometry odom(cfg);
   Drift d;
   Eigen::Isometry3d first = Eigen::Isometry3d::Identity(), previous = first;
+  if (prime) odom.prime(simulate_scan(world, lidar, 0, 2).scan, simulate_scan(world, lidar, 1, 2).scan);
   for (int i = 0; i < scans; ++i) {
     const auto s = simulate_scan(world, lidar, static_cast<std::size_t>(i), 2);
     const auto step = odom.register_scan(s.scan);
@@ -38,7 +41,7 @@ Drift synthetic_drift(bool deskew, int scans = 30) {
     d.final_error = err;
     d.distance += (truth.translation() - previous.translation()).norm();
     previous = truth;
-    if (i == scans - 1) {
+    if (i == measured) {
       // Where the scan's points land with the estimated pose, against where they really are.
       double sum = 0.0;
       for (Eigen::Index j = 0; j < step.deskewed.points.cols(); ++j) {
@@ -69,6 +72,17 @@ TEST(LidarOdometry, DeskewingMattersOnARollingShutterSensor) {
   EXPECT_LT(with.point_error, 0.05) << "with deskewing";
   EXPECT_GT(without.point_error, 0.1) << "without deskewing";
   EXPECT_LT(with.point_error * 2.0, without.point_error);
+}
+
+TEST(LidarOdometry, TheFirstTwoSweepsAreUndistortedOnceTheOdometryIsPrimed) {
+  // Nothing tells the motion over the first two sweeps; prime() registers them as they are
+  // and undistorts both with that step. Mean point error on scan 0: 0.124 m unprimed, 0.005 m
+  // primed; on scan 1: 0.125 m and 0.010 m.
+  for (const int scan : {0, 1}) {
+    const Drift primed = synthetic_drift(true, 2, scan), smeared = synthetic_drift(true, 2, scan, false);
+    EXPECT_LT(primed.point_error, 0.03) << "scan " << scan;
+    EXPECT_GT(smeared.point_error, 0.1) << "scan " << scan;
+  }
 }
 
 TEST(LidarOdometry, TwoRealKittiScansRegisterToTheMeasuredStep) {
