@@ -3,9 +3,9 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
-#include <tbb/parallel_pipeline.h>
 
 #include "apps/offline_spill.hpp"
+#include "apps/pipeline_stage.hpp"
 #include "apps/progress.hpp"
 #include "dynamics/ground_segmentation.hpp"
 #include "mapping/whole_log_vote.hpp"
@@ -22,9 +22,9 @@ fs::path spill_file(const fs::path& dir, std::size_t i) { return dir / (scan_nam
 
 // The first stage of a sweep: spills 0..scans-1 in order, each deleted once read when
 // `consume` (the last sweep).
-auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, bool consume) {
-  return tbb::make_filter<void, std::shared_ptr<SpilledScan>>(
-      tbb::filter_mode::serial_in_order, [&dir, scans, &next, consume](tbb::flow_control& fc) {
+auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, bool consume, StageFailure& failure) {
+  return guarded_filter<void, std::shared_ptr<SpilledScan>>(
+      tbb::filter_mode::serial_in_order, failure, [&dir, scans, &next, consume](tbb::flow_control& fc) {
         if (next == scans) {
           fc.stop();
           return std::shared_ptr<SpilledScan>();
@@ -50,11 +50,13 @@ OfflinePassStats run_offline_pass(
   Progress rays(command + " (rays)", scans);
   std::size_t next_ray = 0;
   std::mutex cast_time;
-  tbb::parallel_pipeline(
-      4,
-      spill_source(spill_dir, scans, next_ray, false) &
-          tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<VisibilityMap::ScanRays>>(
-              tbb::filter_mode::parallel,
+  // One record for both sweeps: a failure in the first is rethrown before the second starts.
+  StageFailure failure;
+  run_pipeline_stages(
+      4, failure,
+      spill_source(spill_dir, scans, next_ray, false, failure) &
+          guarded_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<VisibilityMap::ScanRays>>(
+              tbb::filter_mode::parallel, failure,
               [&](std::shared_ptr<SpilledScan> s) {
                 const auto t = Clock::now();
                 const Scan& scan = s->scored.scan;
@@ -64,8 +66,8 @@ OfflinePassStats run_offline_pass(
                 stats.rays_seconds += since(t);
                 return cast;
               }) &
-          tbb::make_filter<std::shared_ptr<VisibilityMap::ScanRays>, void>(
-              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<VisibilityMap::ScanRays> r) {
+          guarded_filter<std::shared_ptr<VisibilityMap::ScanRays>, void>(
+              tbb::filter_mode::serial_in_order, failure, [&](std::shared_ptr<VisibilityMap::ScanRays> r) {
                 const auto t = Clock::now();
                 visibility.count(*r);
                 std::lock_guard<std::mutex> lock(cast_time);  // the casts add theirs too
@@ -76,11 +78,11 @@ OfflinePassStats run_offline_pass(
   Progress pass2(command + " (pass 2 of 2)", scans);
   std::size_t next = 0;
   std::mutex judged;
-  tbb::parallel_pipeline(
-      4,
-      spill_source(spill_dir, scans, next, true) &
-          tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
-              tbb::filter_mode::parallel,
+  run_pipeline_stages(
+      4, failure,
+      spill_source(spill_dir, scans, next, true, failure) &
+          guarded_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
+              tbb::filter_mode::parallel, failure,
               [&](std::shared_ptr<SpilledScan> s) {
                 const auto t = Clock::now();
                 ScoredScan& r = s->scored;
@@ -94,14 +96,14 @@ OfflinePassStats run_offline_pass(
                 stats.judging_seconds += since(t);
                 return s;
               }) &
-          tbb::make_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
-              tbb::filter_mode::serial_in_order,
+          guarded_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
+              tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<SpilledScan> s) {
                 map_scan(s->scored);
                 return s;
               }) &
-          tbb::make_filter<std::shared_ptr<SpilledScan>, void>(
-              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<SpilledScan> s) {
+          guarded_filter<std::shared_ptr<SpilledScan>, void>(
+              tbb::filter_mode::serial_in_order, failure, [&](std::shared_ptr<SpilledScan> s) {
                 write_scan(s->scored, s->labels);
                 pass2.update(s->scored.index + 1);
               }));

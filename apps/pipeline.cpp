@@ -1,7 +1,5 @@
 #include "apps/pipeline.hpp"
 
-#include <tbb/parallel_pipeline.h>
-
 #include <cstdio>
 #include <iterator>
 
@@ -11,6 +9,7 @@
 #include "apps/offline_spill.hpp"
 #include "apps/output_dir.hpp"
 #include "apps/pipeline_run.hpp"
+#include "apps/pipeline_stage.hpp"
 #include "apps/preset_yaml.hpp"
 #include "apps/progress.hpp"
 #include "apps/run_summary.hpp"
@@ -51,10 +50,11 @@ void first_pass(PipelineRun& run, Progress& progress) {
   std::size_t next = 0, scans_done = 0;
   std::size_t flushes_left = static_cast<std::size_t>(run.cfg.scorer.window_half) * (run.cfg.scorer.tracks.enabled ? 2 : 1);
   const std::size_t n = run.seq.size();
-  tbb::parallel_pipeline(
-      4,
-      tbb::make_filter<void, std::shared_ptr<PipelineItem>>(
-          tbb::filter_mode::serial_in_order,
+  StageFailure failure;
+  run_pipeline_stages(
+      4, failure,
+      guarded_filter<void, std::shared_ptr<PipelineItem>>(
+          tbb::filter_mode::serial_in_order, failure,
           [&](tbb::flow_control& fc) -> std::shared_ptr<PipelineItem> {
             if (next < n) return run.load(next++);
             // The scans the scorer and the tracker still hold leave one item each, so that
@@ -69,15 +69,15 @@ void first_pass(PipelineRun& run, Progress& progress) {
             item->flushes_after = --flushes_left;
             return item;
           }) &
-          tbb::make_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
-              tbb::filter_mode::serial_in_order,
+          guarded_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
+              tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<PipelineItem> item) {
                 if (item->flush) run.flush(*item);
                 else run.score(*item);
                 return item;
               }) &
-          tbb::make_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
-              tbb::filter_mode::serial_in_order,
+          guarded_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
+              tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<PipelineItem> item) {
                 for (auto& [r, labels] : item->scored) {
                   if (!run.offline) {
@@ -91,8 +91,8 @@ void first_pass(PipelineRun& run, Progress& progress) {
                 }
                 return item;
               }) &
-          tbb::make_filter<std::shared_ptr<PipelineItem>, void>(
-              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<PipelineItem> item) {
+          guarded_filter<std::shared_ptr<PipelineItem>, void>(
+              tbb::filter_mode::serial_in_order, failure, [&](std::shared_ptr<PipelineItem> item) {
                 for (auto& [r, labels] : item->scored) {
                   if (run.offline) {
                     run.feed_back(r);  // in pass 1, while odometry still runs: pass 2 comes after the last pose
