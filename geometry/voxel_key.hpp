@@ -21,14 +21,18 @@ VoxelKey voxel_of(const Vec& p, double inv_size) {
           static_cast<std::int32_t>(std::floor(p[2] * inv_size))};
 }
 
-// Packs the three coordinates (21 bits each) and mixes them with the splitmix64 finaliser:
-// power-of-two open-addressing tables index by the low bits, which the plain XOR-of-primes
-// spatial hash leaves poorly mixed.
+// The three coordinates' low 21 bits in one word: a hash's input (voxels 2^21 apart share it).
+inline std::uint64_t packed_key(const VoxelKey& k) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x) & 0x1FFFFFu) << 42) |
+         (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y) & 0x1FFFFFu) << 21) |
+         (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z) & 0x1FFFFFu));
+}
+
+// The packed key mixed by the splitmix64 finaliser: power-of-two open-addressing tables index
+// by the low bits, which the plain XOR-of-primes spatial hash leaves poorly mixed.
 struct VoxelKeyHash {
   std::size_t operator()(const VoxelKey& k) const {
-    std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x) & 0x1FFFFFu) << 42) |
-                      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y) & 0x1FFFFFu) << 21) |
-                      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z) & 0x1FFFFFu));
+    std::uint64_t h = packed_key(k);
     h ^= h >> 30;
     h *= 0xbf58476d1ce4e5b9ULL;
     h ^= h >> 27;

@@ -19,9 +19,22 @@ namespace cleanmap {
 // and mostly stay cached.
 class VoxelSet {
  public:
+  VoxelSet() = default;
+  // The last block's pointer points into this set's table: no copies or moves.
+  VoxelSet(const VoxelSet&) = delete;
+  VoxelSet& operator=(const VoxelSet&) = delete;
+
   bool insert(const VoxelKey& v) {  // true when the voxel was not in the set yet
     const VoxelKey block{v.x >> 3, v.y >> 3, v.z >> 3};  // arithmetic shift: floor
-    std::uint64_t& word = blocks_[block][static_cast<std::size_t>(v.z & 7)];
+    // Consecutive points (firing and ring order) mostly fall in the same block: the last
+    // block's mask answers without the table, whose probe missed the cache (a third of the
+    // time `PointCloudMap::add` took on the 131k-point stream). The pointer is the table's
+    // answer since its last insertion, which is the only thing that moves masks.
+    if (!last_mask_ || !(block == last_block_)) {
+      last_mask_ = &blocks_[block];
+      last_block_ = block;
+    }
+    std::uint64_t& word = (*last_mask_)[static_cast<std::size_t>(v.z & 7)];
     const std::uint64_t bit = 1ull << ((v.x & 7) | (v.y & 7) << 3);
     if (word & bit) return false;
     word |= bit;
@@ -31,6 +44,8 @@ class VoxelSet {
  private:
   using Mask = std::array<std::uint64_t, 8>;
   tsl::robin_map<VoxelKey, Mask, VoxelKeyHash> blocks_;
+  VoxelKey last_block_;
+  Mask* last_mask_ = nullptr;
 };
 
 class PointCloudMap {
