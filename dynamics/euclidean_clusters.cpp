@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "io/error.hpp"
-#include "geometry/point_index.hpp"
+#include "geometry/radius_grid.hpp"
 
 namespace cleanmap {
 
@@ -15,8 +15,7 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
   for (std::size_t k = 0; k < include.size(); ++k) {
     if (include[k]) members.push_back(static_cast<std::int32_t>(k));
   }
-  const Eigen::Matrix3Xf subset = points(Eigen::all, members);
-  const PointIndex index(subset);
+  const RadiusGrid index(points, members, radius);
   std::int32_t next = 0;
   std::vector<std::int32_t> stack;
   for (const auto k : members) {
@@ -26,7 +25,7 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
     while (!stack.empty()) {
       const auto j = stack.back();
       stack.pop_back();
-      index.for_each_within(points.col(j), radius, [&](std::uint32_t m, float) {
+      index.for_each_within(points.col(j), [&](std::uint32_t m, float) {
         const auto q = static_cast<std::size_t>(members[m]);
         if (id[q] < 0) {
           id[q] = next;
