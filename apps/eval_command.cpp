@@ -122,8 +122,9 @@ void eval_dynamic(const DynamicArgs& a) {
       n_boxes += m.size();
       for (bool b : m) n_moving += b;
     }
-    std::printf("ground truth from boxes: %zu of %zu boxes moving faster than %.2f m/s (%zu speeds measured on the objects' points)\n",
-                n_moving, n_boxes, a.box.speed, boxes.measured);
+    std::printf("ground truth from boxes: %zu of %zu boxes moving faster than %.2f m/s (%zu speeds measured on the "
+                "objects' points; %zu stale copies of older boxes judged by their objects' nearest sightings)\n",
+                n_moving, n_boxes, a.box.speed, boxes.measured, boxes.stale_copies);
   }
   const fs::path dir = fs::is_directory(a.pred / "labels") ? a.pred / "labels" : a.pred;
   MovingConfusion total;

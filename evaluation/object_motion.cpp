@@ -204,30 +204,77 @@ std::vector<std::vector<double>> object_speeds(const std::vector<std::vector<Lab
   return speed;
 }
 
+namespace {
+
+// Each stale copy (stale_copies) takes the moving flag of its object's nearest sighting in
+// time (the earlier on a tie). There is always one: an object's first box is no copy.
+std::vector<std::vector<bool>> with_stale_copies(const std::vector<std::vector<LabelBox>>& boxes,
+                                                 const std::vector<std::vector<bool>>& stale,
+                                                 const std::vector<std::vector<bool>>& sighting_moving) {
+  std::map<std::string, std::vector<std::pair<std::size_t, bool>>> sightings;  // id -> (scan, moving)
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t k = 0, s = 0; k < boxes[i].size(); ++k) {
+      if (!stale[i][k]) sightings[boxes[i][k].id].emplace_back(i, sighting_moving[i][s++]);
+    }
+  }
+  std::vector<std::vector<bool>> moving(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t k = 0, s = 0; k < boxes[i].size(); ++k) {
+      if (!stale[i][k]) {
+        moving[i].push_back(sighting_moving[i][s++]);
+        continue;
+      }
+      const auto& object = sightings.at(boxes[i][k].id);
+      const auto* best = &object.front();
+      for (const auto& sighting : object) {
+        const auto gap = [&](std::size_t j) { return j > i ? j - i : i - j; };
+        if (gap(sighting.first) < gap(best->first)) best = &sighting;
+      }
+      moving[i].push_back(best->second);
+    }
+  }
+  return moving;
+}
+
+}  // namespace
+
 BoxTruth box_truth(const Sequence& sequence, const std::filesystem::path& boxes_dir,
                    const BoxTruthOptions& options) {
   BoxTruth truth;
   truth.boxes = read_sequence_boxes(boxes_dir, sequence.scans);
+  // Motion is measured on the sightings alone: stale copies left out.
+  const auto stale = stale_copies(truth.boxes);
+  std::vector<std::vector<LabelBox>> sightings(truth.boxes.size());
+  for (std::size_t i = 0; i < truth.boxes.size(); ++i) {
+    for (std::size_t k = 0; k < truth.boxes[i].size(); ++k) {
+      if (stale[i][k]) {
+        ++truth.stale_copies;
+      } else {
+        sightings[i].push_back(truth.boxes[i][k]);
+      }
+    }
+  }
   std::vector<std::vector<double>> speeds;
   if (options.source == BoxSpeedSource::kPoints) {
     std::vector<std::vector<Eigen::Matrix3Xf>> points(sequence.size());
     for (std::size_t i = 0; i < sequence.size(); ++i) {
-      if (truth.boxes[i].empty()) continue;
+      if (sightings[i].empty()) continue;
       Scan scan = read_raw_scan(sequence, i);
       drop_non_finite(scan);
       const Eigen::Matrix3Xf world =
           options.time_from_azimuth && !scan.has_time()
               ? place_by_azimuth(scan.points, sequence.poses, sequence.times, i, options.pose_reference)
               : to_world(scan, sweep_motion(sequence.poses, sequence.times, i)).points;
-      points[i] = points_in_boxes(scan.points, world, truth.boxes[i], options.margin);
+      points[i] = points_in_boxes(scan.points, world, sightings[i], options.margin);
     }
-    speeds = object_speeds(truth.boxes, points, sequence.poses, sequence.times, options.window);
+    speeds = object_speeds(sightings, points, sequence.poses, sequence.times, options.window);
     for (const auto& s : speeds) {
       for (const double v : s) truth.measured += std::isfinite(v);
     }
   }
-  truth.moving = moving_boxes(truth.boxes, sequence.poses, sequence.times, options.speed, options.window,
-                              speeds.empty() ? nullptr : &speeds);
+  const auto moving_sightings = moving_boxes(sightings, sequence.poses, sequence.times, options.speed,
+                                             options.window, speeds.empty() ? nullptr : &speeds);
+  truth.moving = with_stale_copies(truth.boxes, stale, moving_sightings);
   if (options.whole_track) truth.moving = moving_tracks(truth.boxes, truth.moving);
   return truth;
 }

@@ -108,6 +108,7 @@ struct BoxTruth {
   std::vector<std::vector<LabelBox>> boxes;
   std::vector<std::vector<bool>> moving;
   std::size_t measured = 0;  // boxes whose speed came from their points
+  std::size_t stale_copies = 0;  // boxes left out of the motion estimate (stale_copies)
 };
 
 // Reads `boxes_dir` for every scan of `sequence` (which needs poses) and, with kPoints, every
