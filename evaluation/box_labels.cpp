@@ -111,7 +111,7 @@ std::vector<std::vector<bool>> stale_copies(const std::vector<std::vector<LabelB
   auto same = [](const LabelBox& a, const LabelBox& b) {
     return a.centre == b.centre && a.yaw == b.yaw && a.size == b.size;  // copied, so to the bit
   };
-  std::map<std::string, std::vector<std::pair<std::size_t, const LabelBox*>>> seen;  // id -> earlier boxes
+  std::map<std::string, std::vector<const LabelBox*>> seen;  // id -> its earlier boxes, in order
   std::vector<std::vector<bool>> stale(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (const auto& b : boxes[i]) {
@@ -119,11 +119,11 @@ std::vector<std::vector<bool>> stale_copies(const std::vector<std::vector<LabelB
       bool copy = false;
       // Equal to an older box, and some later box of the object was not: replaced in between.
       for (std::size_t e = 0; e + 1 < earlier.size() && !copy; ++e) {
-        if (!same(*earlier[e].second, b)) continue;
-        for (std::size_t f = e + 1; f < earlier.size() && !copy; ++f) copy = !same(*earlier[f].second, b);
+        if (!same(*earlier[e], b)) continue;
+        for (std::size_t f = e + 1; f < earlier.size() && !copy; ++f) copy = !same(*earlier[f], b);
       }
       stale[i].push_back(copy);
-      earlier.emplace_back(i, &b);
+      earlier.push_back(&b);
     }
   }
   return stale;

@@ -224,10 +224,10 @@ std::vector<std::vector<bool>> with_stale_copies(const std::vector<std::vector<L
         moving[i].push_back(sighting_moving[i][s++]);
         continue;
       }
+      const auto gap = [i](std::size_t j) { return j > i ? j - i : i - j; };
       const auto& object = sightings.at(boxes[i][k].id);
       const auto* best = &object.front();
       for (const auto& sighting : object) {
-        const auto gap = [&](std::size_t j) { return j > i ? j - i : i - j; };
         if (gap(sighting.first) < gap(best->first)) best = &sighting;
       }
       moving[i].push_back(best->second);
