@@ -58,7 +58,7 @@ std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelB
 
 // Per scan and box: a stale copy, the very box (centre, yaw and size to the bit) of its object
 // in an earlier scan that a scan in between had already replaced. An annotation tool's copy of
-// an older frame, not a sighting: on the Pandar64 street, scans 3 and 4 hold 55 and 59
+// an older frame, not a sighting: on the Pandar64 street, scans 3 and 4 hold 55 and 57
 // motorcycle boxes copied from scan 0 in the sensor frame while the car drove 2 m. In scans
 // 0-2 those boxes stand still in the world frame (a row of parked scooters), and the copies,
 // carried 2 m along with the car, would make them move at 20 m/s. A box copied from the
