@@ -144,37 +144,88 @@ void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points, const std::optional
   surfaces_fitted_ = false;
 }
 
-bool VisibilityMap::passes_hits(const CellSet::Key& k, const Eigen::Vector3d& from, const Eigen::Vector3d& dir,
-                                double t0, double t1) const {
+namespace {
+
+// Narrows [ta, tb] to where the segment from + dir t has coordinate `a` in [lo, hi] (tb < ta:
+// nowhere).
+void clip(const Eigen::Vector3d& from, const Eigen::Vector3d& dir, int a, double lo, double hi, double& ta,
+          double& tb) {
+  if (dir[a] == 0) {
+    if (from[a] < lo || from[a] > hi) tb = ta - 1;
+    return;
+  }
+  const double u = (lo - from[a]) / dir[a], v = (hi - from[a]) / dir[a];
+  ta = std::max(ta, std::min(u, v));
+  tb = std::min(tb, std::max(u, v));
+}
+
+}  // namespace
+
+VisibilityMap::Crossing VisibilityMap::crossing(const CellSet::Key& k, const Eigen::Vector3d& from,
+                                                const Eigen::Vector3d& dir, double t0, double t1) const {
   constexpr int kOffset = 1 << 15;  // OctoMap keys are cell indices offset by 2^15
   const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
-  if (it == cells_.end()) return false;
+  if (it == cells_.end()) return Crossing::kNone;
   const Counts& c = it->second;
-  auto reaches = [&](int a) {
-    const auto level = hits_level(static_cast<int>(k[a]) - kOffset, c, a, config_.resolution);
-    const double lo = level.first - config_.extent_margin, hi = level.second + config_.extent_margin;
+  const double margin = config_.extent_margin, inf = std::numeric_limits<double>::infinity();
+  std::array<std::pair<double, double>, 3> level;
+  for (int a = 0; a < 3; ++a) {
+    if (c.lo[a] > c.hi[a]) return Crossing::kNone;
+    level[a] = hits_level(static_cast<int>(k[a]) - kOffset, c, a, config_.resolution);
+    // Where the hits spread over the cell, a ray beside them (the empty part of the cell, above
+    // a car's roof in the cell of its side's top row) does not cross them either.
     const double za = from[a] + dir[a] * t0, zb = from[a] + dir[a] * t1;
-    // Hit from one side only: beyond the level is inside what was hit, and passing there
-    // crosses it (a ray under a roof's level goes through the car beneath it).
+    if (!thin(c, a) && (std::max(za, zb) < level[a].first - margin || std::min(za, zb) > level[a].second + margin)) {
+      return Crossing::kNone;
+    }
+  }
+  // The band along `a` a ray must reach, grown by `grow`: hit from one side only, beyond the
+  // level is inside what was hit, and passing there crosses it (a ray under a roof's level
+  // goes through the car beneath it).
+  auto band = [&](int a, double grow) {
     const bool from_low = c.seen_from >> a & 1, from_high = c.seen_from >> (a + 3) & 1;
-    if (from_low && !from_high) return std::max(za, zb) >= lo;
-    if (from_high && !from_low) return std::min(za, zb) <= hi;
-    return std::max(za, zb) >= lo && std::min(za, zb) <= hi;  // reaches the surface's level
+    const double lo = level[a].first - grow, hi = level[a].second + grow;
+    if (from_low && !from_high) return std::pair{lo, inf};
+    if (from_high && !from_low) return std::pair{-inf, hi};
+    return std::pair{lo, hi};
+  };
+  auto reaches = [&](int a) {
+    double ta = t0, tb = t1;
+    const auto near = band(a, margin);
+    clip(from, dir, a, near.first, near.second, ta, tb);
+    if (tb < ta) return Crossing::kNone;
+    ta = t0, tb = t1;
+    const auto at = band(a, 0.0);
+    clip(from, dir, a, at.first, at.second, ta, tb);
+    return tb < ta ? Crossing::kNear : Crossing::kThrough;
   };
   if (c.faces != 0) {  // an edge (two faces) is crossed only where the ray reaches both
+    auto out = Crossing::kThrough;
     for (int a = 0; a < 3; ++a) {
-      if ((c.faces >> a & 1) && !reaches(a)) return false;
+      if (c.faces >> a & 1) out = std::min(out, reaches(a));
     }
-    return true;
+    if (out != Crossing::kThrough) return out;
+    // Through a face's level beside its hits (past a roof's edge) is near it, not through it.
+    double ta = t0, tb = t1;
+    for (int a = 0; a < 3; ++a) {
+      const auto b = c.faces >> a & 1 ? band(a, 0.0) : std::pair{level[a].first - margin, level[a].second + margin};
+      clip(from, dir, a, b.first, b.second, ta, tb);
+    }
+    return tb < ta ? Crossing::kNear : Crossing::kThrough;
   }
+  if (thin_axes(c) == 3) {  // a dot: through it only inside its hits along every axis
+    const std::array<Crossing, 3> r{reaches(0), reaches(1), reaches(2)};
+    const auto [lowest, highest] = std::minmax_element(r.begin(), r.end());
+    return *highest == Crossing::kNone ? Crossing::kNone : *lowest == Crossing::kThrough ? Crossing::kThrough : Crossing::kNear;
+  }
+  auto out = Crossing::kNone;
   bool any_thin = false;
   for (int a = 0; a < 3; ++a) {
-    if (c.lo[a] > c.hi[a]) return false;
     if (!thin(c, a)) continue;  // spread over the cell: no side to miss
     any_thin = true;
-    if (reaches(a)) return true;
+    out = std::max(out, reaches(a));
   }
-  return !any_thin;
+  return any_thin ? out : Crossing::kThrough;
 }
 
 void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
@@ -202,9 +253,12 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
     if (!(range > config_.margin) || range > config_.max_range) continue;
     const Eigen::Vector3d from = origin + ray * ((range - config_.margin) / range), dir = origin - from;
     walk_ray(*grid_, from, origin, true, walked, [&](const CellSet::Key& k, double t0, double t1) {
-      if (!ever_hit.contains(k) || out.crossed.contains(k)) return true;
-      if (!passes_hits(k, from, dir, t0, t1)) return false;
+      if (!ever_hit.contains(k) || out.through.contains(k)) return true;
+      const Crossing how = crossing(k, from, dir, t0, t1);
+      if (how == Crossing::kNone) return false;
       out.crossed.insert(k);
+      if (how == Crossing::kNear) return false;  // unsettled: a later ray may go through it
+      out.through.insert(k);
       return true;
     });
   }
@@ -222,6 +276,10 @@ void VisibilityMap::count(const ScanRays& rays) {
     const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
     if (it != cells_.end()) bump(it.value().crossed);
   });
+  rays.through.for_each_also_in(hit_cells_, rays.hit, [&](const CellSet::Key& k) {
+    const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
+    if (it != cells_.end()) bump(it.value().through);
+  });
 }
 
 VisibilityMap::Counts VisibilityMap::counts(const Eigen::Vector3f& p) const {
@@ -238,7 +296,8 @@ std::vector<std::uint8_t> VisibilityMap::moved_through(const Eigen::Matrix3Xf& p
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     const VoxelKey k = voxel_of(points.col(i), inv);
     const auto own = cells_.find(k);
-    if (own == cells_.end() || evidence(own->second) > free) continue;
+    // A cell only ever crossed near its hits may be a surface the rays grazed.
+    if (own == cells_.end() || own->second.through == 0 || evidence(own->second) > free) continue;
     bool clear = true;
     for (int dx = -1; dx <= 1 && clear; ++dx) {
       for (int dy = -1; dy <= 1 && clear; ++dy) {

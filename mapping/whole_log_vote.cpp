@@ -17,13 +17,13 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
   const Eigen::Matrix3Xf sub = points(Eigen::all, moving);
   std::vector<VisibilityMap::Counts> counts(moving.size());
   for (std::size_t k = 0; k < moving.size(); ++k) counts[k] = log.counts(sub.col(static_cast<Eigen::Index>(k)));
-  // Inside the log only clusters with a never-crossed point can be vetoed: grown from those
+  // Inside the log only clusters with a point never gone through can be vetoed: grown from those
   // alone (most scans have a few, and the clustering of every dynamic point doubled pass 2).
   const std::vector<std::uint8_t> all(moving.size(), 1);
   std::vector<std::uint8_t> seed(moving.size(), 1);
   if (!log_end) {
     bool any = false;
-    for (std::size_t k = 0; k < moving.size(); ++k) any |= (seed[k] = counts[k].crossed == 0);
+    for (std::size_t k = 0; k < moving.size(); ++k) any |= (seed[k] = counts[k].through == 0);
     if (!any) return 0;
   }
   const auto id = clusters_from_seeds(sub, all, seed, radius);
@@ -36,7 +36,7 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
       crossed.resize(c + 1, 0);
     }
     hits[c] += counts[k].hits;
-    crossed[c] += counts[k].crossed;
+    crossed[c] += log_end ? counts[k].crossed : counts[k].through;  // inside: only rays through count
   }
   std::size_t vetoed = 0;
   for (std::size_t k = 0; k < id.size(); ++k) {

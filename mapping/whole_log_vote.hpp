@@ -26,8 +26,9 @@ struct WholeLogVerdict {
 //   in 2-3 scans, crossed in 0-3). Visibility tells the two apart: where something appeared,
 //   the log saw through it before. Inside the log the normals have both sides, and an object
 //   that crawls (its cells occupied most of the time) stays theirs to call, unless no ray of
-//   any scan ever crossed any of its cells: a mover leaves the space it held, and what comes
-//   closer was seen through before it arrived. That stands only for what never moved (the
+//   any scan ever went through any of its cells (VisibilityMap::Counts::through: a ray within
+//   the margin of the hits may have grazed them): a mover leaves the space it held, and what
+//   comes closer was seen through before it arrived. That stands only for what never moved (the
 //   static synthetic log: 481 -> 268 false points, building faces 50 m away at the scorer's
 //   threshold); bench/quality.sh: no set worse, kitti00 0.483 -> 0.487, Pandar64 0.569 ->
 //   0.573 (SA 96.85 -> 96.98), synthetic street 0.951 -> 0.952. Requiring fewer crossings

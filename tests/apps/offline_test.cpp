@@ -7,6 +7,7 @@
 
 #include "apps/offline_spill.hpp"
 #include "io/error.hpp"
+#include "io/pcd_file.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -115,20 +116,24 @@ TEST(OfflineRun, ABadScanMidwayStopsTheRunAndLeavesNoSpills) {
   EXPECT_FALSE(std::filesystem::exists(dir / "r" / ".offline"));
 }
 
-TEST(OfflineRun, AStaticStreetLosesAlmostNothing) {
-  // Nothing moves but the sensor: every removed point is a mistake. With odometry, offline 52
-  // of 1.68 M points (0.003%), online 400 (0.024%); before the odometry undistorted its first
-  // two sweeps (LidarOdometry::prime), 381 and 1407, most in the first three scans.
+TEST(OfflineRun, AStaticStreetLosesNothingOffline) {
+  // Nothing moves but the sensor: every removed point is a mistake. With odometry, offline 0 of
+  // 1.68 M points (52, parked cars' roofs grazed by rays 0.3 m above them, before only rays
+  // through a cell's hits could make it dynamic or keep the normals' call), online 400
+  // (0.024%).
   test::TempDir dir;
   ASSERT_EQ(run_cleanmap("demo --generate-only --static-scene --scans 30 --out " + (dir / "d").string()), 0);
-  for (const auto& [mode, bound] : {std::pair<std::string, double>{"", 0.0002}, {" --online", 0.0005}}) {
+  for (const auto& [mode, bound] : {std::pair<std::string, double>{"", 0.0}, {" --online", 0.0005}}) {
     const auto out_dir = dir / ("r" + std::to_string(mode.size()));
     std::string out;
     ASSERT_EQ(run_cleanmap("run --input " + (dir / "d" / "sequence").string() + " --out " + out_dir.string() +
                                " --voxel-size 0.1" + mode, &out), 0) << out;
     const auto s = summary_of(out_dir);
     const double share = s["dynamic_points"].get<double>() / s["points"].get<double>();
-    EXPECT_LT(share, bound) << (mode.empty() ? "offline" : "online");
+    EXPECT_LE(share, bound) << (mode.empty() ? "offline" : "online");
+    if (mode.empty()) {
+      EXPECT_EQ(read_pcd(out_dir / "map_dynamic.pcd").points, 0u);
+    }
     EXPECT_EQ(s["moving"]["tp"].get<std::size_t>(), 0u);  // the labels agree: nothing moves
   }
 }
