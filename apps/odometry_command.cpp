@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 
 #include "apps/commands.hpp"
 #include "apps/output_claim.hpp"
@@ -52,10 +53,14 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
   nlohmann::json empty_scans = nlohmann::json::array();
   double reference_offset = 0.0;
   Progress progress("odometry", seq.size());
+  std::optional<LoadedScan> second;  // read at scan 0 to prime the odometry, used at scan 1
   for (std::size_t i = 0; i < seq.size(); ++i) {
-    LoadedScan loaded = load_scan(seq, i);
+    LoadedScan loaded = i == 1 && second ? std::move(*second) : load_scan(seq, i);
     if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
-    if (i == 0 && seq.size() > 1) odom.prime(loaded.scan, load_scan(seq, 1).scan);  // undistorts the first two sweeps too
+    if (i == 0 && seq.size() > 1) {  // undistorts the first two sweeps too
+      second = load_scan(seq, 1);
+      odom.prime(loaded.scan, second->scan);
+    }
     auto step = odom.register_scan(loaded.scan);
     reference_offset = step.reference_offset;
     stamped.push_back({loaded.scan.stamp + step.reference_offset, step.pose});

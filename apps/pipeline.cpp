@@ -158,7 +158,9 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   auto item = std::make_shared<PipelineItem>();
   item->index = index;
   auto t = Clock::now();
-  LoadedScan loaded = load_scan(seq, index);
+  const bool primed = index == 1 && second.has_value();
+  LoadedScan loaded = primed ? std::move(*second) : load_scan(seq, index);
+  if (primed) second.reset();
   dropped += loaded.dropped_non_finite;
   if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
   masked += drop_masked(loaded, mask);
@@ -168,7 +170,8 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   if (odom) {
     std::lock_guard<std::mutex> lock(odom_mutex);
     if (index == 0 && seq.size() > 1) {  // the first step, so that the first two sweeps are undistorted too
-      LoadedScan next = load_scan(seq, 1);
+      second = load_scan(seq, 1);
+      LoadedScan next = *second;  // masked here; load(1) masks and counts it as any other
       drop_masked(next, mask);
       odom->prime(loaded.scan, next.scan);
     }

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -71,6 +72,8 @@ struct PipelineRun {
 
   std::unique_ptr<LidarOdometry> odom;
   std::mutex odom_mutex;  // stage 1 registers, stage 4 (online) or pass 1 (offline) feeds back
+  // Scan 1 as read, to prime the odometry at scan 0: kept for load(1), so that it is read once.
+  std::optional<LoadedScan> second;
   std::unique_ptr<OctoMapBuilder> octo;
   std::unique_ptr<VisibilityMap> visibility;
   SpatiotemporalScorer scorer;
