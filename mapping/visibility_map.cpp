@@ -216,7 +216,8 @@ VisibilityMap::Crossing VisibilityMap::crossing(const CellSet::Key& k, const Eig
   if (thin_axes(c) == 3) {  // a dot: through it only inside its hits along every axis
     const std::array<Crossing, 3> r{reaches(0), reaches(1), reaches(2)};
     const auto [lowest, highest] = std::minmax_element(r.begin(), r.end());
-    return *highest == Crossing::kNone ? Crossing::kNone : *lowest == Crossing::kThrough ? Crossing::kThrough : Crossing::kNear;
+    if (*highest == Crossing::kNone) return Crossing::kNone;
+    return *lowest == Crossing::kThrough ? Crossing::kThrough : Crossing::kNear;
   }
   auto out = Crossing::kNone;
   bool any_thin = false;
@@ -236,8 +237,8 @@ void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector
 VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const {
   // The scan's crossed cells, each once: its rays converge on one origin, and walk_ray (from
   // the far end) stops where an earlier ray of the scan walked the rest of the way. A hit cell
-  // counts as crossed once a ray reached its hits' level (passes_hits); until then it is not
-  // settled, and later rays keep looking at it.
+  // counts as crossed once a ray came near its hits (crossing), and is settled once one went
+  // through them; until then later rays keep looking at it.
   if (!surfaces_fitted_) throw std::logic_error("VisibilityMap::cast before fit_surfaces");
   ScanRays out;
   const auto keep = voxel_downsample(points, config_.resolution);

@@ -153,7 +153,9 @@ TEST(VisibilityGrazing, InsideTheLogADynamicObjectOnlyGrazedIsStatic) {
   // through it, the normals keep their call.
   VisibilityMap map = dot_map();
   for (int s = 0; s < 3; ++s) ray(map, {0.1, 0.135, 1.53}, {9.1f, 0.135f, 1.53f});
-  auto no_ground = [](const Eigen::Matrix3Xf& sub) { return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0); };
+  auto no_ground = [](const Eigen::Matrix3Xf& sub) {
+    return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0);
+  };
   std::vector<std::uint8_t> dynamic{1};
   EXPECT_EQ(judge_with_log(cloud({kDot}), dynamic, map, no_ground, kFreeSpaceRule, false).vetoed, 1u);
   EXPECT_EQ(dynamic[0], 0);
