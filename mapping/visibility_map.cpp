@@ -273,13 +273,13 @@ void VisibilityMap::count(const ScanRays& rays) {
   // scan both hits and crosses says nothing about motion: porous (foliage lets some rays
   // through) or grazed (a wall seen at a shallow angle). A mover is opaque: the scans that see
   // through its cells do not hit them.
+  // The cells gone through are among those crossed (cast): one look-up of the counts each.
+  CellSet::Reader through(rays.through);
   rays.crossed.for_each_also_in(hit_cells_, rays.hit, [&](const CellSet::Key& k) {
     const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
-    if (it != cells_.end()) bump(it.value().crossed);
-  });
-  rays.through.for_each_also_in(hit_cells_, rays.hit, [&](const CellSet::Key& k) {
-    const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
-    if (it != cells_.end()) bump(it.value().through);
+    if (it == cells_.end()) return;
+    bump(it.value().crossed);
+    if (through.contains(k)) bump(it.value().through);
   });
 }
 
