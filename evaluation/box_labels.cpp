@@ -1,5 +1,7 @@
 #include "evaluation/box_labels.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -108,22 +110,31 @@ std::vector<std::vector<bool>> moving_boxes(const std::vector<std::vector<LabelB
 }
 
 std::vector<std::vector<bool>> stale_copies(const std::vector<std::vector<LabelBox>>& boxes) {
-  auto same = [](const LabelBox& a, const LabelBox& b) {
-    return a.centre == b.centre && a.yaw == b.yaw && a.size == b.size;  // copied, so to the bit
+  // A box equals an older one of its object, and a box in between was not that box: it is a
+  // copy exactly when its first occurrence lies before the object's trailing run of equal
+  // boxes, or the last box differs from it. One look-up per box (the definition, checked
+  // against every earlier pair, was cubic in a track's length). Compared with ==, as copied
+  // boxes agree to the bit; a NaN matches nothing.
+  using Key = std::array<double, 7>;
+  struct Trail {
+    std::map<Key, std::size_t> first;  // box -> index of its first occurrence
+    Key last{};
+    std::size_t count = 0, run_start = 0;  // the trailing run of equal boxes starts at run_start
   };
-  std::map<std::string, std::vector<const LabelBox*>> seen;  // id -> its earlier boxes, in order
+  std::map<std::string, Trail> trails;
   std::vector<std::vector<bool>> stale(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     for (const auto& b : boxes[i]) {
-      auto& earlier = seen[b.id];
-      bool copy = false;
-      // Equal to an older box, and some later box of the object was not: replaced in between.
-      for (std::size_t e = 0; e + 1 < earlier.size() && !copy; ++e) {
-        if (!same(*earlier[e], b)) continue;
-        for (std::size_t f = e + 1; f < earlier.size() && !copy; ++f) copy = !same(*earlier[f], b);
-      }
-      stale[i].push_back(copy);
-      earlier.push_back(&b);
+      const Key key{b.centre.x(), b.centre.y(), b.centre.z(), b.yaw, b.size.x(), b.size.y(), b.size.z()};
+      const bool finite = std::all_of(key.begin(), key.end(), [](double v) { return !std::isnan(v); });
+      auto& t = trails[b.id];
+      const auto e = finite ? t.first.find(key) : t.first.end();
+      const bool same_as_last = t.count > 0 && t.last == key;
+      stale[i].push_back(e != t.first.end() && (!same_as_last || e->second < t.run_start));
+      if (!same_as_last) t.run_start = t.count;
+      if (finite) t.first.emplace(key, t.count);
+      t.last = key;
+      ++t.count;
     }
   }
   return stale;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <random>
 
 #include "io/error.hpp"
 
@@ -126,6 +127,52 @@ TEST(StaleCopies, ABoxCopiedFromAnOlderFrameIsNoSightingButOneCopiedForwardIs) {
   }
   EXPECT_TRUE(seen[3][0]);  // scans 3 and 4 kept the car ahead only
   EXPECT_TRUE(seen[4][0]);
+}
+
+// The definition, word for word: equal to an older box of its object, with some box in between
+// (after that older one) not equal to it.
+std::vector<std::vector<bool>> stale_by_definition(const std::vector<std::vector<LabelBox>>& boxes) {
+  auto same = [](const LabelBox& a, const LabelBox& b) {
+    return a.centre == b.centre && a.yaw == b.yaw && a.size == b.size;
+  };
+  std::vector<std::vector<bool>> stale(boxes.size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (const auto& b : boxes[i]) {
+      bool copy = false;
+      for (std::size_t e = 0; e < i && !copy; ++e) {
+        for (const auto& older : boxes[e]) {
+          if (older.id != b.id || !same(older, b)) continue;
+          for (std::size_t f = e + 1; f < i && !copy; ++f) {
+            for (const auto& between : boxes[f]) copy = copy || (between.id == b.id && !same(between, b));
+          }
+        }
+      }
+      stale[i].push_back(copy);
+    }
+  }
+  return stale;
+}
+
+// Random tracks drawn from three boxes per object (so copies, runs and returns abound), some
+// scans without the object, a NaN now and then, -0 against +0: the one-look-up rule agrees
+// with the definition on every box.
+TEST(StaleCopies, AgreesWithTheDefinitionOnRandomTracks) {
+  std::mt19937 rng(7);
+  const double values[] = {0.0, -0.0, 1.5, std::numeric_limits<double>::quiet_NaN()};
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<std::vector<LabelBox>> boxes(1 + rng() % 30);
+    for (auto& scan : boxes) {
+      for (const char* id : {"a", "b"}) {
+        if (rng() % 4 == 0) continue;
+        LabelBox box;
+        box.id = id;
+        box.centre.x() = values[rng() % (trial % 2 ? 4 : 3)];
+        box.yaw = static_cast<double>(rng() % 2);
+        scan.push_back(box);
+      }
+    }
+    EXPECT_EQ(stale_copies(boxes), stale_by_definition(boxes)) << "trial " << trial;
+  }
 }
 
 }  // namespace
