@@ -36,7 +36,10 @@ using CellMap = tsl::robin_map<VoxelKey, float, VoxelKeyHash>;
 // below the ground when it lies deeper under the median floor of its 3x3 block than a walkable
 // slope across the block plus a ground band explain. (Taking a cell's 2nd or 3rd lowest point
 // instead did not stop them, and cost SemanticKITTI 01 a tenth of its recall.)
-CellMap cell_lowest(const Eigen::Matrix3Xf& points, const std::vector<VoxelKey>& key, const GroundConfig& c) {
+// `lowest_allowed_of` receives every cell's bound (its block's median floor less that drop),
+// for the memory's floors to meet the same rule.
+CellMap cell_lowest(const Eigen::Matrix3Xf& points, const std::vector<VoxelKey>& key, const GroundConfig& c,
+                    CellMap& lowest_allowed_of) {
   CellMap low;
   low.reserve(key.size() / 16 + 1);
   auto add = [&](std::size_t i) {
@@ -58,6 +61,7 @@ CellMap cell_lowest(const Eigen::Matrix3Xf& points, const std::vector<VoxelKey>&
     }
     std::nth_element(block.begin(), block.begin() + m / 2, block.begin() + m);
     const float lowest_allowed = block[m / 2] - drop;
+    lowest_allowed_of.emplace(k, lowest_allowed);
     if (z < lowest_allowed) bound.emplace(k, lowest_allowed);
   }
   if (bound.empty()) return low;
@@ -92,8 +96,9 @@ std::vector<std::pair<VoxelKey, float>> floor_neighbours(const GroundConfig& c) 
 }
 
 // Forgets what is older than the memory's span, then lowers this scan's cells to what the
-// remaining scans saw there, and remembers this scan's lowest points.
-void merge_memory(CellMap& lowest, GroundMemory& m) {
+// remaining scans saw there (within this scan's `lowest_allowed`), and remembers this scan's
+// lowest points.
+void merge_memory(CellMap& lowest, const CellMap& lowest_allowed, GroundMemory& m) {
   const std::size_t now = m.now++;
   for (auto it = m.lowest.begin(); it != m.lowest.end();) {
     it = now - it->second.scan >= m.scans ? m.lowest.erase(it) : std::next(it);
@@ -101,10 +106,16 @@ void merge_memory(CellMap& lowest, GroundMemory& m) {
   for (auto it = lowest.begin(); it != lowest.end(); ++it) {
     auto [mem, fresh] = m.lowest.try_emplace(it->first, GroundMemory::Lowest{it->second, now});
     if (fresh) continue;
-    if (mem->second.z < it->second) {
-      it.value() = mem->second.z;  // a lower floor seen recently
-    } else {
+    const float remembered = mem->second.z;
+    if (remembered >= it->second) {
       mem.value() = {it->second, now};  // as low or lower: seen again now
+    } else if (remembered < lowest_allowed.find(it->first)->second) {
+      // Deeper under this scan's own block floor than a slope and the band explain: a mirror
+      // image that filled an earlier scan's block (so that scan took it for floor), not a
+      // floor a car now hides. Forgotten.
+      mem.value() = {it->second, now};
+    } else {
+      it.value() = remembered;  // a lower floor seen recently
     }
   }
 }
@@ -129,8 +140,9 @@ std::vector<float> ground_heights(const Eigen::Matrix3Xf& points, const GroundCo
     key[i] = {static_cast<std::int32_t>(std::floor(p.x() * inv)),
               static_cast<std::int32_t>(std::floor(p.y() * inv)), 0};
   }
-  CellMap lowest = cell_lowest(points, key, c);
-  if (memory != nullptr && memory->scans > 0) merge_memory(lowest, *memory);
+  CellMap lowest_allowed;
+  CellMap lowest = cell_lowest(points, key, c, lowest_allowed);
+  if (memory != nullptr && memory->scans > 0) merge_memory(lowest, lowest_allowed, *memory);
   // A cell's floor is the lowest point of its 3x3 block, unless that floor floats above the
   // slope-limited lower envelope of the lowest points within `reach` (min over cells n of
   // lowest(n) + max_slope * distance, a morphological opening with a cone as in progressive
