@@ -5,6 +5,7 @@
 
 #include "io/error.hpp"
 #include "geometry/radius_grid.hpp"
+#include "geometry/voxel_downsample.hpp"
 
 namespace cleanmap {
 
@@ -35,6 +36,29 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
     }
     ++next;
   }
+  return id;
+}
+
+std::vector<std::int32_t> clusters_on_voxels(const Eigen::Matrix3Xf& points,
+                                             const std::vector<std::uint8_t>& include,
+                                             const std::vector<std::uint8_t>& seed, float radius,
+                                             double voxel) {
+  std::vector<std::int32_t> members;
+  for (std::size_t i = 0; i < include.size(); ++i) {
+    if (include[i]) members.push_back(static_cast<std::int32_t>(i));
+  }
+  std::vector<std::int32_t> id(include.size(), -1);
+  if (members.empty()) return id;
+  const Eigen::Matrix3Xf sub = points(Eigen::all, members);
+  const auto voxels = voxel_downsample_with_owners(sub, voxel);
+  const auto owner = [&](std::size_t m) { return static_cast<std::size_t>(voxels.owner[m]); };
+  std::vector<std::uint8_t> rep_seed(voxels.keep.size(), 0);
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    if (seed[static_cast<std::size_t>(members[m])]) rep_seed[owner(m)] = 1;
+  }
+  const auto rep_id = clusters_from_seeds(sub(Eigen::all, voxels.keep),
+                                          std::vector<std::uint8_t>(voxels.keep.size(), 1), rep_seed, radius);
+  for (std::size_t m = 0; m < members.size(); ++m) id[static_cast<std::size_t>(members[m])] = rep_id[owner(m)];
   return id;
 }
 

@@ -247,23 +247,7 @@ struct SpatiotemporalScorer::Impl {
                                         const std::vector<std::uint8_t>& seed, float radius) const {
     const double coarse = radius / 2.0;
     if (2 * w.voxel >= coarse) return clusters_from_seeds(w.points, include, seed, radius);
-    std::vector<std::int32_t> members;
-    for (std::size_t i = 0; i < include.size(); ++i) {
-      if (include[i]) members.push_back(static_cast<std::int32_t>(i));
-    }
-    const Eigen::Matrix3Xf sub = w.points(Eigen::all, members);
-    const auto voxels = voxel_downsample_with_owners(sub, coarse);
-    const Eigen::Matrix3Xf reps = sub(Eigen::all, voxels.keep);
-    std::vector<std::uint8_t> rep_seed(voxels.keep.size(), 0);  // a voxel with a seed is one
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      if (seed[static_cast<std::size_t>(members[m])]) rep_seed[static_cast<std::size_t>(voxels.owner[m])] = 1;
-    }
-    const auto rep_id = clusters_from_seeds(reps, std::vector<std::uint8_t>(voxels.keep.size(), 1), rep_seed, radius);
-    std::vector<std::int32_t> id(include.size(), -1);
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      id[static_cast<std::size_t>(members[m])] = rep_id[static_cast<std::size_t>(voxels.owner[m])];
-    }
-    return id;
+    return clusters_on_voxels(w.points, include, seed, radius, coarse);
   }
 
   // Adds whole objects (clusters of non-ground points) to the per-point decisions, and drops

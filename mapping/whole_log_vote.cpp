@@ -1,7 +1,6 @@
 #include "mapping/whole_log_vote.hpp"
 
 #include "dynamics/euclidean_clusters.hpp"
-#include "geometry/voxel_downsample.hpp"
 
 namespace cleanmap {
 namespace {
@@ -30,49 +29,38 @@ bool gone_through_too_rarely(std::size_t through, std::size_t hits) {
 // street. Counts stay per point.
 std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
                              const VisibilityMap& log, float radius, bool log_end, double voxel) {
-  std::vector<std::int32_t> moving;
-  for (std::size_t i = 0; i < dynamic.size(); ++i) {
-    if (dynamic[i]) moving.push_back(static_cast<std::int32_t>(i));
-  }
-  if (moving.empty()) return 0;
-  const Eigen::Matrix3Xf sub = points(Eigen::all, moving);
-  std::vector<VisibilityMap::Counts> counts(moving.size());
-  for (std::size_t k = 0; k < moving.size(); ++k) counts[k] = log.counts(sub.col(static_cast<Eigen::Index>(k)));
-  const auto voxels = voxel_downsample_with_owners(sub, voxel);
-  const auto owner = [&](std::size_t k) { return static_cast<std::size_t>(voxels.owner[k]); };
+  std::vector<VisibilityMap::Counts> counts(dynamic.size());
   // Inside the log only clusters with a point seen through too rarely can be vetoed: grown from
   // those alone (most scans have a few).
-  const std::vector<std::uint8_t> all(voxels.keep.size(), 1);
-  std::vector<std::uint8_t> seed(voxels.keep.size(), log_end ? 1 : 0);
-  if (!log_end) {
-    bool any = false;
-    for (std::size_t k = 0; k < moving.size(); ++k) {
-      if (!gone_through_too_rarely(counts[k].through, counts[k].hits)) continue;
-      seed[owner(k)] = 1;
-      any = true;
-    }
-    if (!any) return 0;
+  std::vector<std::uint8_t> seed(dynamic.size(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < dynamic.size(); ++i) {
+    if (!dynamic[i]) continue;
+    counts[i] = log.counts(points.col(static_cast<Eigen::Index>(i)));
+    seed[i] = log_end || gone_through_too_rarely(counts[i].through, counts[i].hits);
+    any |= seed[i] != 0;
   }
-  const auto id = clusters_from_seeds(sub(Eigen::all, voxels.keep), all, seed, radius);
+  if (!any) return 0;
+  const auto id = clusters_on_voxels(points, dynamic, seed, radius, voxel);
   std::vector<std::size_t> hits, crossed;
-  for (std::size_t k = 0; k < moving.size(); ++k) {
-    const auto c = id[owner(k)];
+  for (std::size_t i = 0; i < dynamic.size(); ++i) {
+    const auto c = id[i];
     if (c < 0) continue;
     if (static_cast<std::size_t>(c) >= hits.size()) {
       hits.resize(static_cast<std::size_t>(c) + 1, 0);
       crossed.resize(static_cast<std::size_t>(c) + 1, 0);
     }
-    hits[static_cast<std::size_t>(c)] += counts[k].hits;
+    hits[static_cast<std::size_t>(c)] += counts[i].hits;
     // Inside the log only rays through count.
-    crossed[static_cast<std::size_t>(c)] += log_end ? counts[k].crossed : counts[k].through;
+    crossed[static_cast<std::size_t>(c)] += log_end ? counts[i].crossed : counts[i].through;
   }
   std::size_t vetoed = 0;
-  for (std::size_t k = 0; k < moving.size(); ++k) {
-    const auto c = id[owner(k)];
+  for (std::size_t i = 0; i < dynamic.size(); ++i) {
+    const auto c = id[i];
     if (c < 0) continue;
     const auto h = hits[static_cast<std::size_t>(c)], x = crossed[static_cast<std::size_t>(c)];
     if (log_end ? x < h : gone_through_too_rarely(x, h)) {
-      dynamic[static_cast<std::size_t>(moving[k])] = 0;
+      dynamic[i] = 0;
       ++vetoed;
     }
   }
