@@ -36,10 +36,10 @@ using CellMap = tsl::robin_map<VoxelKey, float, VoxelKeyHash>;
 // below the ground when it lies deeper under the median floor of its 3x3 block than a walkable
 // slope across the block plus a ground band explain. (Taking a cell's 2nd or 3rd lowest point
 // instead did not stop them, and cost SemanticKITTI 01 a tenth of its recall.)
-// `lowest_allowed_of` receives every cell's bound (its block's median floor less that drop),
-// for the memory's floors to meet the same rule.
+// `lowest_allowed_of`, when given (a memory's floors are to meet the same rule), receives every
+// cell's bound (its block's median floor less that drop).
 CellMap cell_lowest(const Eigen::Matrix3Xf& points, const std::vector<VoxelKey>& key, const GroundConfig& c,
-                    CellMap& lowest_allowed_of) {
+                    CellMap* lowest_allowed_of) {
   CellMap low;
   low.reserve(key.size() / 16 + 1);
   auto add = [&](std::size_t i) {
@@ -61,7 +61,7 @@ CellMap cell_lowest(const Eigen::Matrix3Xf& points, const std::vector<VoxelKey>&
     }
     std::nth_element(block.begin(), block.begin() + m / 2, block.begin() + m);
     const float lowest_allowed = block[m / 2] - drop;
-    lowest_allowed_of.emplace(k, lowest_allowed);
+    if (lowest_allowed_of != nullptr) lowest_allowed_of->emplace(k, lowest_allowed);
     if (z < lowest_allowed) bound.emplace(k, lowest_allowed);
   }
   if (bound.empty()) return low;
@@ -140,9 +140,10 @@ std::vector<float> ground_heights(const Eigen::Matrix3Xf& points, const GroundCo
     key[i] = {static_cast<std::int32_t>(std::floor(p.x() * inv)),
               static_cast<std::int32_t>(std::floor(p.y() * inv)), 0};
   }
+  const bool remembers = memory != nullptr && memory->scans > 0;
   CellMap lowest_allowed;
-  CellMap lowest = cell_lowest(points, key, c, lowest_allowed);
-  if (memory != nullptr && memory->scans > 0) merge_memory(lowest, lowest_allowed, *memory);
+  CellMap lowest = cell_lowest(points, key, c, remembers ? &lowest_allowed : nullptr);
+  if (remembers) merge_memory(lowest, lowest_allowed, *memory);
   // A cell's floor is the lowest point of its 3x3 block, unless that floor floats above the
   // slope-limited lower envelope of the lowest points within `reach` (min over cells n of
   // lowest(n) + max_slope * distance, a morphological opening with a cone as in progressive
