@@ -40,7 +40,7 @@ auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, boo
 
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const fs::path& spill_dir, VisibilityMap& visibility,
-    const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
+    const std::vector<StampedPose>& poses, const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan) {
   OfflinePassStats stats;
   std::size_t rays_done = 0;
@@ -61,7 +61,14 @@ OfflinePassStats run_offline_pass(
                 const auto t = Clock::now();
                 const Scan& scan = s->scored.scan;
                 auto cast = std::make_shared<VisibilityMap::ScanRays>();
-                if (scan.pose) *cast = visibility.cast(scan.points, scan.pose->translation());
+                if (scan.pose) {
+                  // Each ray from where the sensor was when it fired (SweepOrigin), where the
+                  // log's poses say it moved; from the scan's pose otherwise.
+                  const auto i = s->scored.index;
+                  const SweepOrigin sensor = poses.size() == scans ? sweep_origin(poses, i, scan.stamp)
+                                                                   : SweepOrigin{scan.pose->translation(), {0, 0, 0}};
+                  *cast = visibility.cast(scan.points, scan.time, sensor);
+                }
                 std::lock_guard<std::mutex> lock(cast_time);
                 stats.rays_seconds += since(t);
                 return cast;

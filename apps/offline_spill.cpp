@@ -9,7 +9,7 @@
 namespace cleanmap::app {
 namespace {
 
-constexpr char kMagic[8] = {'C', 'M', 'S', 'P', 'I', 'L', 'L', '1'};
+constexpr char kMagic[8] = {'C', 'M', 'S', 'P', 'I', 'L', 'L', '2'};  // 2: per-point times
 
 template <typename T>
 void put(std::ofstream& f, const T& v) {
@@ -62,6 +62,7 @@ void write_spill(const std::filesystem::path& file, const ScoredScan& r, const s
   put(f, static_cast<std::uint64_t>(s.input_size));
   put_array(f, s.points.data(), static_cast<std::size_t>(s.points.size()));
   put_array(f, s.intensity.data(), static_cast<std::size_t>(s.intensity.size()));
+  put_array(f, s.time.data(), static_cast<std::size_t>(s.time.size()));
   put_array(f, s.input_index.data(), s.input_index.size());
   put_array(f, r.score.data(), r.score.size());
   put_array(f, r.dynamic.data(), r.dynamic.size());
@@ -107,6 +108,8 @@ SpilledScan read_spill(const std::filesystem::path& file) {
   };
   s.intensity.resize(static_cast<Eigen::Index>(sized(in.count(sizeof(float)), "intensity")));
   in.get_array(s.intensity.data(), static_cast<std::size_t>(s.intensity.size()));
+  s.time.resize(static_cast<Eigen::Index>(sized(in.count(sizeof(float)), "times")));
+  in.get_array(s.time.data(), static_cast<std::size_t>(s.time.size()));
   s.input_index.resize(sized(in.count(sizeof(std::int32_t)), "input index"));
   in.get_array(s.input_index.data(), s.input_index.size());
   r.score.resize(sized(in.count(sizeof(float)), "scores"));

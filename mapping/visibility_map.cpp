@@ -159,6 +159,40 @@ void clip(const Eigen::Vector3d& from, const Eigen::Vector3d& dir, int a, double
   tb = std::min(tb, std::max(u, v));
 }
 
+// A scan's rays cut by time into spans the sensor crosses in VisibilityMap::kOriginStep
+// (`speed` m/s): members[s] holds the points of span s, which starts at t0 + s * step. One span
+// without times or motion. At most kMaxSpans (a sweep of 0.1 s at 50 m/s).
+struct SweepSpans {
+  double t0 = 0.0, step = 0.0;
+  std::vector<std::vector<std::int32_t>> members;
+};
+constexpr int kMaxSpans = 256;
+SweepSpans sweep_spans(const std::vector<std::int32_t>& keep, const Eigen::VectorXf& times, double speed) {
+  SweepSpans out;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const bool timed = times.size() > 0 && std::isfinite(speed) && speed > 0;
+  if (timed) {
+    for (const auto i : keep) {
+      lo = std::min(lo, static_cast<double>(times[i]));
+      hi = std::max(hi, static_cast<double>(times[i]));
+    }
+  }
+  const double travel = speed * (hi - lo);
+  const int n = timed && std::isfinite(travel) && travel > VisibilityMap::kOriginStep
+                    ? static_cast<int>(std::min<double>(kMaxSpans, std::ceil(travel / VisibilityMap::kOriginStep)))
+                    : 1;
+  const bool spread = timed && std::isfinite(lo) && std::isfinite(hi);
+  out.t0 = spread ? lo : 0.0;  // one span: from the middle of its times (the stamp without)
+  out.step = spread ? (hi - lo) / n : 0.0;
+  out.members.resize(static_cast<std::size_t>(n));
+  for (const auto i : keep) {
+    const double t = n > 1 ? (times[i] - lo) / out.step : 0.0;  // NaN time: the first span
+    const int s = std::isfinite(t) ? std::clamp(static_cast<int>(std::min<double>(t, n)), 0, n - 1) : 0;
+    out.members[static_cast<std::size_t>(s)].push_back(i);
+  }
+  return out;
+}
+
 }  // namespace
 
 VisibilityMap::Crossing VisibilityMap::crossing(const CellSet::Key& k, const Eigen::Vector3d& from,
@@ -235,10 +269,11 @@ void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector
 }
 
 VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const {
-  // The scan's crossed cells, each once: its rays converge on one origin, and walk_ray (from
-  // the far end) stops where an earlier ray of the scan walked the rest of the way. A hit cell
-  // counts as crossed once a ray came near its hits (crossing), and is settled once one went
-  // through them; until then later rays keep looking at it.
+  return cast(points, Eigen::VectorXf(), SweepOrigin{origin, Eigen::Vector3d::Zero()});
+}
+
+VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
+                                            const SweepOrigin& sensor) const {
   if (!surfaces_fitted_) throw std::logic_error("VisibilityMap::cast before fit_surfaces");
   ScanRays out;
   const auto keep = voxel_downsample(points, config_.resolution);
@@ -246,9 +281,26 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
   for (const auto i : keep) {
     if (grid_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) out.hit.insert({key[0], key[1], key[2]});
   }
-  CellSet walked;
+  // The scan's crossed cells, each once: a span's rays converge on one origin, and walk_ray
+  // (from the far end) stops where an earlier ray of the span walked the rest of the way. A hit
+  // cell counts as crossed once a ray came near its hits (crossing), and is settled once one
+  // went through them; until then later rays keep looking at it.
+  const bool timed = times.size() == points.cols();  // otherwise every ray from the stamp's origin
+  const auto spans = sweep_spans(keep, timed ? times : Eigen::VectorXf(), sensor.velocity.norm());
   CellSet::Reader ever_hit(hit_cells_);
-  for (const auto i : keep) {
+  for (const auto& span : spans.members) {
+    if (span.empty()) continue;
+    const Eigen::Vector3d origin = sensor.at(spans.t0 + (static_cast<double>(&span - spans.members.data()) + 0.5) * spans.step);
+    CellSet walked;  // a span's rays share its origin: walk_ray stops where another walked on
+    cast_span(points, span, origin, walked, ever_hit, out);
+  }
+  return out;
+}
+
+void VisibilityMap::cast_span(const Eigen::Matrix3Xf& points, const std::vector<std::int32_t>& span,
+                              const Eigen::Vector3d& origin, CellSet& walked, CellSet::Reader& ever_hit,
+                              ScanRays& out) const {
+  for (const auto i : span) {
     const Eigen::Vector3d ray = points.col(i).cast<double>() - origin;
     const double range = ray.norm();
     if (!(range > config_.margin) || range > config_.max_range) continue;
@@ -263,7 +315,6 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
       return true;
     });
   }
-  return out;
 }
 
 void VisibilityMap::count(const ScanRays& rays) {

@@ -26,6 +26,8 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   r.scan.points << 1, 2, 3, 4, 5, 6, 7, 8, 9;
   r.scan.intensity.resize(3);
   r.scan.intensity << 0.1f, 0.2f, 0.3f;
+  r.scan.time.resize(3);  // pass 2 casts each ray from where the sensor was at its time
+  r.scan.time << 0.0f, 0.05f, 0.099f;
   r.scan.input_index = {0, 2, 5};
   r.scan.input_size = 6;
   r.score = {0.1f, std::nanf(""), 0.9f};
@@ -40,6 +42,7 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   EXPECT_EQ(back.scored.scan.name, "000007");
   EXPECT_TRUE(back.scored.scan.points.isApprox(r.scan.points));
   EXPECT_TRUE(back.scored.scan.intensity.isApprox(r.scan.intensity));
+  EXPECT_EQ(back.scored.scan.time, r.scan.time);
   EXPECT_EQ(back.scored.scan.input_index, r.scan.input_index);
   EXPECT_EQ(back.scored.scan.input_size, 6u);
   ASSERT_TRUE(back.scored.scan.pose.has_value());
