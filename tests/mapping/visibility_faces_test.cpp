@@ -8,16 +8,13 @@
 #include <vector>
 
 #include "mapping/visibility_map.hpp"
+#include "tests/mapping/cloud_of.hpp"
 #include "mapping/whole_log_vote.hpp"
 
 namespace cleanmap {
 namespace {
 
-Eigen::Matrix3Xf cloud(const std::vector<Eigen::Vector3f>& p) {
-  Eigen::Matrix3Xf m(3, static_cast<Eigen::Index>(p.size()));
-  for (std::size_t i = 0; i < p.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = p[i];
-  return m;
-}
+using test::cloud;
 
 // A flat roof at z = 1.5 seen as three rings: lines along y at x = 5.05, 5.25, 5.45 (one per
 // 0.2 m cell along x), y in [0, 0.6). Each cell holds one line: thin along x and z.

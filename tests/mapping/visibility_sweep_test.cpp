@@ -5,15 +5,12 @@
 
 #include "mapping/sweep_origin.hpp"
 #include "mapping/visibility_map.hpp"
+#include "tests/mapping/cloud_of.hpp"
 
 namespace cleanmap {
 namespace {
 
-Eigen::Matrix3Xf cloud(const std::vector<Eigen::Vector3f>& p) {
-  Eigen::Matrix3Xf m(3, static_cast<Eigen::Index>(p.size()));
-  for (std::size_t i = 0; i < p.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = p[i];
-  return m;
-}
+using test::cloud;
 
 StampedPose at(double t, const Eigen::Vector3d& p) {
   StampedPose s;
