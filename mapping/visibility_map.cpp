@@ -288,11 +288,11 @@ VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, cons
   const bool timed = times.size() == points.cols();  // otherwise every ray from the stamp's origin
   const auto spans = sweep_spans(keep, timed ? times : Eigen::VectorXf(), sensor.velocity.norm());
   CellSet::Reader ever_hit(hit_cells_);
-  for (const auto& span : spans.members) {
-    if (span.empty()) continue;
-    const Eigen::Vector3d origin = sensor.at(spans.t0 + (static_cast<double>(&span - spans.members.data()) + 0.5) * spans.step);
+  for (std::size_t s = 0; s < spans.members.size(); ++s) {
+    if (spans.members[s].empty()) continue;
+    const Eigen::Vector3d origin = sensor.at(spans.t0 + (static_cast<double>(s) + 0.5) * spans.step);
     CellSet walked;  // a span's rays share its origin: walk_ray stops where another walked on
-    cast_span(points, span, origin, walked, ever_hit, out);
+    cast_span(points, spans.members[s], origin, walked, ever_hit, out);
   }
   return out;
 }
