@@ -14,6 +14,7 @@
 # a parked truck whose interpolated boxes creep is standing there; evaluation/object_motion.hpp);
 # and those with a mover's whole track moving once it moved (--box-moving track: a truck that
 # brakes to a stop beside the sensor, as a clean map of the log wants it gone).
+# A third table scores the clean OctoMaps against the same truths (build/bench/map_occupancy).
 #
 # Usage: bash bench/quality.sh [BUILD_DIR] [WORK_DIR] [-- extra run options]
 #   BUILD_DIR: the build to measure (default build); WORK_DIR: where the runs go (default a
@@ -138,4 +139,26 @@ for entry in "${dm_sets[@]}"; do
   rate=$(python3 -c "import json,sys; print('%.1f' % json.load(open(sys.argv[1]))['scans_per_second'])" "$dm.run/summary.json")
   m() { python3 -c "import json,sys; print('%.2f' % json.load(open(sys.argv[1]))[sys.argv[2]])" "$dm.run/map.json" "$1"; }
   printf '%-26s %7s %7s %7s %7s %8s   %7s\n' "$name" "$(m SA)" "$(m DA)" "$(m AA)" "$(m HA)" "$(m DA_ceiling)" "$rate"
+done
+
+# The clean OctoMaps (map.ot) of the first table's runs against the layouts' truths, which share
+# their poses and frame (build/bench/map_occupancy): where the truth's static points fall (a
+# clean map keeps the world: occupied) and its dynamic ones (trails it should not keep).
+# Unknown: beyond the map's range limit (map_max_range) from every pose.
+echo
+printf '%-26s %-24s %-24s\n' "clean OctoMap" "static truth (%)" "dynamic truth (%)"
+printf '%-26s %7s %7s %7s  %7s %7s %7s\n' "" "occ" "free" "unkn" "occ" "free" "unkn"
+for pair in "semantickitti/01|semantickitti/01" "semantickitti/04|semantickitti/04" "semantickitti/07|semantickitti/07" \
+            "pandar64_street (boxes)|pandar64_street (boxes)" "pandar64_street (boxes)|pandar64 (points, track)"; do
+  IFS='|' read -r run_name truth_name <<< "$pair"
+  run="$work/$(echo "$run_name" | tr -c 'a-zA-Z0-9\n' '_')"
+  dm="$work/dm_$(echo "$truth_name" | tr -c 'a-zA-Z0-9\n' '_')"
+  [ -f "$run/map.ot" ] && [ -f "$dm/gt_cloud.pcd" ] || continue
+  if ! "$build/bench/map_occupancy" --map "$run/map.ot" --gt "$dm/gt_cloud.pcd" --json "$run/occupancy.json" > /dev/null 2>&1; then
+    printf '%-26s failed\n' "$truth_name"
+    continue
+  fi
+  o() { python3 -c "import json,sys; print('%.2f' % json.load(open(sys.argv[1]))[sys.argv[2]])" "$run/occupancy.json" "$1"; }
+  printf '%-26s %7s %7s %7s  %7s %7s %7s\n' "$truth_name" "$(o static_occupied)" "$(o static_free)" "$(o static_unknown)" \
+    "$(o dynamic_occupied)" "$(o dynamic_free)" "$(o dynamic_unknown)"
 done
