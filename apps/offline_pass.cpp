@@ -20,6 +20,13 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 fs::path spill_file(const fs::path& dir, std::size_t i) { return dir / (scan_name(i) + ".spill"); }
 
+// Where scan i's sensor was over its sweep, where the log's poses say it moved (one per scan);
+// at the scan's pose otherwise. Only for a posed scan.
+SweepOrigin sensor_of(const std::vector<StampedPose>& poses, std::size_t scans, const ScoredScan& r) {
+  return poses.size() == scans ? sweep_origin(poses, r.index, r.scan.stamp)
+                               : SweepOrigin{r.scan.pose->translation(), Eigen::Vector3d::Zero()};
+}
+
 // The first stage of a sweep: spills 0..scans-1 in order, each deleted once read when
 // `consume` (the last sweep).
 auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, bool consume, StageFailure& failure) {
@@ -40,7 +47,8 @@ auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, boo
 
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const fs::path& spill_dir, VisibilityMap& visibility,
-    const std::vector<StampedPose>& poses, const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
+    const std::vector<StampedPose>& poses, const PipelineConfig& cfg, 
+    const std::function<void(ScoredScan&, const std::optional<SweepOrigin>&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan) {
   OfflinePassStats stats;
   std::size_t rays_done = 0;
@@ -61,14 +69,8 @@ OfflinePassStats run_offline_pass(
                 const auto t = Clock::now();
                 const Scan& scan = s->scored.scan;
                 auto cast = std::make_shared<VisibilityMap::ScanRays>();
-                if (scan.pose) {
-                  // Each ray from where the sensor was when it fired (SweepOrigin), where the
-                  // log's poses say it moved; from the scan's pose otherwise.
-                  const auto i = s->scored.index;
-                  const SweepOrigin sensor = poses.size() == scans ? sweep_origin(poses, i, scan.stamp)
-                                                                   : SweepOrigin{scan.pose->translation(), {0, 0, 0}};
-                  *cast = visibility.cast(scan.points, scan.time, sensor);
-                }
+                // Each ray from where the sensor was when it fired (SweepOrigin).
+                if (scan.pose) *cast = visibility.cast(scan.points, scan.time, sensor_of(poses, scans, s->scored));
                 std::lock_guard<std::mutex> lock(cast_time);
                 stats.rays_seconds += since(t);
                 return cast;
@@ -106,7 +108,8 @@ OfflinePassStats run_offline_pass(
           guarded_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
               tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<SpilledScan> s) {
-                map_scan(s->scored);
+                if (s->scored.scan.pose) map_scan(s->scored, sensor_of(poses, scans, s->scored));
+                else map_scan(s->scored, std::nullopt);
                 return s;
               }) &
           guarded_filter<std::shared_ptr<SpilledScan>, void>(

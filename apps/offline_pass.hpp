@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,12 +26,14 @@ struct OfflinePassStats {
 // (from where the sensor was at each point's time, by `poses`, one per scan; any other count:
 // from each scan's pose),
 // then every scan, in order, judged with the whole log (judge_with_log; scans side by side,
-// as the map is read-only by then), handed to `map_scan` and `write_scan` in order. Progress
+// as the map is read-only by then), handed to `map_scan` (with where its sensor was, as its
+// rays) and `write_scan` in order. Progress
 // on the terminal per sweep; the spills are deleted as the last sweep reads them (the caller
 // owns the folder, and removes it however the run ends).
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const std::filesystem::path& spill_dir,
-    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg, const std::function<void(ScoredScan&)>& map_scan,
+    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg, 
+    const std::function<void(ScoredScan&, const std::optional<SweepOrigin>&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan);
 
 }  // namespace cleanmap::app

@@ -18,7 +18,7 @@
 
 namespace cleanmap::app {
 
-void PipelineRun::map_scan(ScoredScan& r) {
+void PipelineRun::map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sensor) {
   if (!opt.mapping) return;
   const auto t = Clock::now();
   Scan& scan = r.scan;
@@ -39,7 +39,9 @@ void PipelineRun::map_scan(ScoredScan& r) {
     for (std::size_t i = 0; i < scan.size(); ++i) {
       if (!r.dynamic[i]) keep.push_back(static_cast<std::int32_t>(i));
     }
-    octo->insert(scan.points(Eigen::all, keep), scan.pose->translation());
+    const Eigen::VectorXf times = scan.has_time() ? Eigen::VectorXf(scan.time(keep)) : Eigen::VectorXf();
+    octo->insert(scan.points(Eigen::all, keep), times,
+                 sensor ? *sensor : SweepOrigin{scan.pose->translation(), Eigen::Vector3d::Zero()});
   }
   mapping_s += since(t);
 }

@@ -53,8 +53,9 @@ struct PipelineRun {
   // Stage 2: scorer then tracker; what they release joins the item with its labels.
   void score(PipelineItem& item);
   void flush(PipelineItem& item);  // a flush item takes one held scan (the last, all left)
-  // Stage 3: the occupancy opinion, then the static points into the map.
-  void map_scan(ScoredScan& r);
+  // Stage 3: the occupancy opinion, then the static points into the map, rays cast from where
+  // the sensor was (`sensor`, known once the log's poses are: pass 2) or from the scan's pose.
+  void map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sensor = std::nullopt);
   // The scorer's dynamic points leave the odometry's local map (`exclude_dynamic`).
   void feed_back(const ScoredScan& r);
   // Stage 4: per-scan files, map clouds, metrics.

@@ -159,6 +159,27 @@ TEST(OctoMapBuilder, RepeatedUpdatesClampAsOctoMapDoes) {
   EXPECT_FLOAT_EQ(once.tree().search(5.0, 0.0, 0.0)->getLogOdds(), octomap::logodds(config.prob_miss));
 }
 
+TEST(OctoMapBuilder, ARayIsCarvedFromWhereTheSensorWasWhenItFired) {
+  // The sensor moves along y at 10 m/s; the point it hit 0.1 s into the sweep, at (10, 1, 0),
+  // was fired from (0, 1, 0): its ray runs along x at y = 1, not from the stamp's (0, 0, 0).
+  const SweepOrigin sensor{Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 10, 0)};
+  const Eigen::Matrix3Xf point = Eigen::Vector3f(10, 1, 0);
+  const MapConfig config;
+  OctoMapBuilder timed(config), untimed(config);
+  timed.insert(point, Eigen::VectorXf::Constant(1, 0.1f), sensor);
+  untimed.insert(point, Eigen::VectorXf(), sensor);  // no times: every ray from sensor.at(0)
+  const auto miss = octomap::logodds(config.prob_miss);
+  const auto* on_path = timed.tree().search(5.0, 1.0, 0.0);
+  ASSERT_NE(on_path, nullptr);
+  EXPECT_FLOAT_EQ(on_path->getLogOdds(), miss);
+  EXPECT_EQ(timed.tree().search(5.0, 0.45, 0.0), nullptr);  // the stamp's ray passes here
+  EXPECT_EQ(timed.tree().search(0.15, 0.15, 0.0), nullptr);  // the stamp's origin: never carved
+  EXPECT_TRUE(timed.tree().isNodeOccupied(timed.tree().search(10.0, 1.0, 0.0)));
+  ASSERT_NE(untimed.tree().search(5.0, 0.45, 0.0), nullptr);
+  EXPECT_FLOAT_EQ(untimed.tree().search(5.0, 0.45, 0.0)->getLogOdds(), miss);
+  EXPECT_EQ(untimed.tree().search(5.0, 1.0, 0.0), nullptr);
+}
+
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
   OctoMapBuilder map(MapConfig{});
   for (int k = 0; k < 6; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
