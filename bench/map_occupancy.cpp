@@ -19,6 +19,7 @@
 
 #include "apps/map_truth.hpp"
 #include "io/error.hpp"
+#include "mapping/cell_set.hpp"
 
 using namespace cleanmap;
 
@@ -37,16 +38,28 @@ std::unique_ptr<octomap::OcTree> read_tree(const std::filesystem::path& file) {
   return std::unique_ptr<octomap::OcTree>(static_cast<octomap::OcTree*>(any.release()));
 }
 
-// Per class (0 static, 1 dynamic): points in occupied, free, unknown cells.
-using Tally = std::array<std::array<std::size_t, 3>, 2>;
+// Per class (0 static, 1 dynamic, 2 dynamic in a cell without static truth): points in
+// occupied, free, unknown cells.
+using Tally = std::array<std::array<std::size_t, 3>, 3>;
 
 Tally tally(const octomap::OcTree& tree, const app::MapTruth& truth) {
-  Tally t{};
   const auto& p = truth.cloud.points;
+  CellSet standing;
+  octomap::OcTreeKey key;
+  for (Eigen::Index i = 0; i < p.cols(); ++i) {
+    if (!truth.dynamic[static_cast<std::size_t>(i)] && tree.coordToKeyChecked(p(0, i), p(1, i), p(2, i), key)) {
+      standing.insert({key[0], key[1], key[2]});
+    }
+  }
+  Tally t{};
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
     const auto* node = tree.search(p(0, i), p(1, i), p(2, i));
-    const int state = !node ? 2 : tree.isNodeOccupied(node) ? 0 : 1;
-    ++t[truth.dynamic[static_cast<std::size_t>(i)]][static_cast<std::size_t>(state)];
+    const auto state = static_cast<std::size_t>(!node ? 2 : tree.isNodeOccupied(node) ? 0 : 1);
+    const bool dynamic = truth.dynamic[static_cast<std::size_t>(i)];
+    ++t[dynamic][state];
+    if (dynamic && !(tree.coordToKeyChecked(p(0, i), p(1, i), p(2, i), key) && standing.contains({key[0], key[1], key[2]}))) {
+      ++t[2][state];
+    }
   }
   return t;
 }
@@ -70,12 +83,12 @@ int main(int argc, char** argv) {
     const auto tree = read_tree(map);
     const Tally t = tally(*tree, truth);
     nlohmann::json out;
-    const char* names[] = {"static", "dynamic"};
+    const char* names[] = {"static", "dynamic", "dynamic_alone"};
     const char* states[] = {"occupied", "free", "unknown"};
-    std::printf("%-8s %10s %9s %9s %9s\n", "truth", "points", "occupied", "free", "unknown");
-    for (int c = 0; c < 2; ++c) {
+    std::printf("%-13s %10s %9s %9s %9s\n", "truth", "points", "occupied", "free", "unknown");
+    for (int c = 0; c < 3; ++c) {
       const auto& row = t[static_cast<std::size_t>(c)];
-      std::printf("%-8s %10zu %8.2f%% %8.2f%% %8.2f%%\n", names[c], row[0] + row[1] + row[2], percent(row[0], row),
+      std::printf("%-13s %10zu %8.2f%% %8.2f%% %8.2f%%\n", names[c], row[0] + row[1] + row[2], percent(row[0], row),
                   percent(row[1], row), percent(row[2], row));
       for (int s = 0; s < 3; ++s) out[std::string(names[c]) + "_" + states[s]] = percent(row[static_cast<std::size_t>(s)], row);
     }

@@ -143,11 +143,13 @@ done
 
 # The clean OctoMaps (map.ot) of the first table's runs against the layouts' truths, which share
 # their poses and frame (build/bench/map_occupancy): where the truth's static points fall (a
-# clean map keeps the world: occupied) and its dynamic ones (trails it should not keep).
-# Unknown: beyond the map's range limit (map_max_range) from every pose.
+# clean map keeps the world: occupied) and its dynamic ones (trails it should not keep); "alone":
+# the dynamic points in cells without a static point of the truth, the trails a map that keeps
+# the world could clear. Unknown: no point or ray of the map reached (rays are cut at
+# map_max_range).
 echo
-printf '%-26s %-24s %-24s\n' "clean OctoMap" "static truth (%)" "dynamic truth (%)"
-printf '%-26s %7s %7s %7s  %7s %7s %7s\n' "" "occ" "free" "unkn" "occ" "free" "unkn"
+printf '%-26s %-24s %-24s %s\n' "clean OctoMap" "static truth (%)" "dynamic truth (%)" "alone (%)"
+printf '%-26s %7s %7s %7s  %7s %7s %7s  %7s\n' "" "occ" "free" "unkn" "occ" "free" "unkn" "occ"
 for pair in "semantickitti/01|semantickitti/01" "semantickitti/04|semantickitti/04" "semantickitti/07|semantickitti/07" \
             "pandar64_street (boxes)|pandar64_street (boxes)" "pandar64_street (boxes)|pandar64 (points, track)"; do
   IFS='|' read -r run_name truth_name <<< "$pair"
@@ -159,6 +161,6 @@ for pair in "semantickitti/01|semantickitti/01" "semantickitti/04|semantickitti/
     continue
   fi
   o() { python3 -c "import json,sys; print('%.2f' % json.load(open(sys.argv[1]))[sys.argv[2]])" "$run/occupancy.json" "$1"; }
-  printf '%-26s %7s %7s %7s  %7s %7s %7s\n' "$truth_name" "$(o static_occupied)" "$(o static_free)" "$(o static_unknown)" \
-    "$(o dynamic_occupied)" "$(o dynamic_free)" "$(o dynamic_unknown)"
+  printf '%-26s %7s %7s %7s  %7s %7s %7s  %7s\n' "$truth_name" "$(o static_occupied)" "$(o static_free)" "$(o static_unknown)" \
+    "$(o dynamic_occupied)" "$(o dynamic_free)" "$(o dynamic_unknown)" "$(o dynamic_alone_occupied)"
 done
