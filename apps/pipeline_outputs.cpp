@@ -15,6 +15,7 @@
 #include "io/label_file.hpp"
 #include "io/score_file.hpp"
 #include "mapping/free_space_vote.hpp"
+#include "mapping/whole_log_vote.hpp"
 
 namespace cleanmap::app {
 
@@ -42,6 +43,7 @@ void PipelineRun::map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sens
     const Eigen::VectorXf times = scan.has_time() ? Eigen::VectorXf(scan.time(keep)) : Eigen::VectorXf();
     octo->insert(scan.points(Eigen::all, keep), times,
                  sensor ? *sensor : SweepOrigin{scan.pose->translation(), Eigen::Vector3d::Zero()});
+    if (visibility) octo->pin(scan.points(Eigen::all, never_gone_through(*visibility, scan.points, keep)), scan.pose->translation());
   }
   mapping_s += since(t);
 }
@@ -127,6 +129,7 @@ void PipelineRun::write_scan(ScoredScan& r, const std::vector<std::uint32_t>& gt
 
 void PipelineRun::write_maps() {
   const auto t = Clock::now();
+  if (opt.mapping && offline) cells_pinned = octo->occupy_pinned();
   // The map files are independent of each other: written side by side, but the large clouds
   // one after another (each write converts a whole cloud for PCL: two at once doubled the peak
   // memory), and the OctoMap ones in order (writing the .bt prunes the tree). An error in any
@@ -152,6 +155,7 @@ void PipelineRun::write_maps() {
 
 void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
   if (opt.mapping) summary["octomap_leaves"] = octo->leaf_count();
+  if (opt.mapping && offline) summary["octomap_cells_pinned"] = cells_pinned;
   if (use_odometry) {
     summary["pose_files"] = pose_files_json(seq.calib_tr, poses.empty() ? 0.0 : poses.front().stamp - seq.times.front());
   }

@@ -147,6 +147,29 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   occupied.for_each_in_tree_order([&](const CellSet::Key& k) { tree.update(tree_key(k), true); });
 }
 
+void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
+  if (!pinned_) pinned_ = std::make_unique<CellSet>();
+  const double max_sq = config_.max_range * config_.max_range;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if ((points.col(i).cast<double>() - origin).squaredNorm() > max_sq) continue;
+    octomap::OcTreeKey key;
+    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) pinned_->insert(key_of(key));
+  }
+}
+
+std::size_t OctoMapBuilder::occupy_pinned() {
+  if (!pinned_) return 0;
+  const float hit = octomap::logodds(config_.prob_hit);
+  std::size_t turned = 0;
+  pinned_->for_each_in_tree_order([&](const CellSet::Key& k) {
+    const auto* node = tree_->search(tree_key(k));
+    if (node && node->getLogOdds() >= hit) return;
+    tree_->setNodeValue(tree_key(k), hit, true);
+    ++turned;
+  });
+  return turned;
+}
+
 std::vector<std::uint8_t> OctoMapBuilder::hits_in_free_space(const Eigen::Matrix3Xf& points) const {
   std::vector<std::uint8_t> hit(static_cast<std::size_t>(points.cols()), 0);
   const double free_logodds = octomap::logodds(config_.free_probability);

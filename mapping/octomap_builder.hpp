@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "mapping/cell_set.hpp"
 #include "mapping/sweep_origin.hpp"
 
 namespace octomap {
@@ -52,12 +53,20 @@ class OctoMapBuilder {
   // 2D occupancy grid between two heights in the ROS map_server format (PGM + YAML).
   void write_occupancy_grid(const std::filesystem::path& pgm, double z_min, double z_max);
 
+  // Cells to be occupied at the end whatever rays do to them later (`points`, world frame,
+  // within max_range of `origin`, as insert): static points no ray of the whole log went
+  // through (never_gone_through, pass 2). occupy_pinned raises each to at least one hit's
+  // log-odds (prob_hit), and returns how many it raised.
+  void pin(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin);
+  std::size_t occupy_pinned();
+
   std::size_t leaf_count() const;
   const octomap::OcTree& tree() const { return *tree_; }
 
  private:
   MapConfig config_;
   std::unique_ptr<octomap::OcTree> tree_;
+  std::unique_ptr<CellSet> pinned_;
 };
 
 }  // namespace cleanmap

@@ -2,8 +2,10 @@
 
 #include <octomap/OcTree.h>
 
+#include <array>
 #include <cstdio>
 #include <fstream>
+#include <set>
 
 #include "mapping/free_space_vote.hpp"
 #include "mapping/point_cloud_map.hpp"
@@ -178,6 +180,34 @@ TEST(OctoMapBuilder, ARayIsCarvedFromWhereTheSensorWasWhenItFired) {
   ASSERT_NE(untimed.tree().search(5.0, 0.45, 0.0), nullptr);
   EXPECT_FLOAT_EQ(untimed.tree().search(5.0, 0.45, 0.0)->getLogOdds(), miss);
   EXPECT_EQ(untimed.tree().search(5.0, 1.0, 0.0), nullptr);
+}
+
+TEST(OctoMapBuilder, APinnedCellIsOccupiedAtTheEndWhateverRaysDidToIt) {
+  const MapConfig config;
+  OctoMapBuilder map(config);
+  const auto& tree = map.tree();
+  map.insert(wall(10), Eigen::Vector3d::Zero());
+  map.pin(wall(10), Eigen::Vector3d::Zero());
+  map.pin(wall(40), Eigen::Vector3d::Zero());  // beyond max_range (30 m): as insert, not a hit
+  // A wall at 20 m seen through the first one's place six times: its cells go free.
+  for (int k = 0; k < 6; ++k) map.insert(wall(20), Eigen::Vector3d::Zero());
+  ASSERT_FALSE(tree.isNodeOccupied(tree.search(10.0, 0.0, 0.0)));
+  const auto at_20 = tree.search(20.0, 0.0, 0.0)->getLogOdds();
+  map.pin(wall(20), Eigen::Vector3d::Zero());  // more than one hit already: left as it is
+  // The cells of the first wall the rays left under one hit's log-odds: those it raises.
+  const float hit = octomap::logodds(config.prob_hit);
+  std::set<std::array<std::uint16_t, 3>> below;
+  const Eigen::Matrix3Xf first = wall(10);
+  for (Eigen::Index i = 0; i < first.cols(); ++i) {
+    const auto key = tree.coordToKey(first(0, i), first(1, i), first(2, i));
+    if (tree.search(key)->getLogOdds() < hit) below.insert({key[0], key[1], key[2]});
+  }
+  ASSERT_GT(below.size(), 10u);
+  EXPECT_EQ(map.occupy_pinned(), below.size());
+  for (const auto& k : below) EXPECT_FLOAT_EQ(tree.search(octomap::OcTreeKey(k[0], k[1], k[2]))->getLogOdds(), hit);
+  EXPECT_FLOAT_EQ(tree.search(20.0, 0.0, 0.0)->getLogOdds(), at_20);
+  EXPECT_EQ(tree.search(40.0, 0.0, 0.0), nullptr);
+  EXPECT_EQ(map.occupy_pinned(), 0u);  // nothing left to raise
 }
 
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {

@@ -76,6 +76,22 @@ TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
   EXPECT_EQ(map.cells(), 2u);
 }
 
+TEST(WholeLogVote, TheCleanMapKeepsWhatNoRayOfTheLogWentThrough) {
+  // Something stood at x = 5.05 in scan 0; scans 1-3 saw the wall at 9.05 straight through it.
+  VisibilityConfig c;
+  c.resolution = 0.1;
+  VisibilityMap map(c);
+  map.add_hits(one(5.05f, 0.05f, 0.05f));
+  for (int s = 1; s <= 3; ++s) map.add_hits(one(9.05f, 0.05f, 0.05f));
+  map.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
+  for (int s = 1; s <= 3; ++s) map.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+  EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).through, 3);
+  Eigen::Matrix3Xf points(3, 3);
+  points << 5.05f, 9.05f, 9.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f;
+  EXPECT_EQ(never_gone_through(map, points, {0, 1}), (std::vector<std::int32_t>{1}));
+  EXPECT_EQ(never_gone_through(map, points, {2, 0}), (std::vector<std::int32_t>{2}));  // only among `among`
+}
+
 TEST(VisibilityMap, MovedWhenTheLogSawThroughItOftenEnoughAsAnOctoMapWeighs) {
   // One hit (log-odds +0.847 at p_hit 0.7) against k crossings (-0.405 each at p_miss 0.4):
   // free at p <= 0.2 (log-odds -1.386) from k = 6 on: 0.847 - 6 x 0.405 = -1.586, while
