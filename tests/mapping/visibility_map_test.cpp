@@ -54,16 +54,21 @@ TEST(CellSet, TheTableMortonOfATileIsTheInterleaveOfItsCells) {
   }
 }
 
-TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
+// Scan 0 hits something at x = 5.05; scans 1-3 see a wall at x = 9.05 through that place.
+VisibilityMap mover_then_wall(double margin) {
   VisibilityConfig c;
   c.resolution = 0.1;
-  c.margin = 0.25;
+  c.margin = margin;
   VisibilityMap map(c);
-  // Scan 0 hits something at x = 5.05; scans 1-3 see a wall at x = 9.05 through that place.
   map.add_hits(one(5.05f, 0.05f, 0.05f));
   for (int s = 1; s <= 3; ++s) map.add_hits(one(9.05f, 0.05f, 0.05f));
   map.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
   for (int s = 1; s <= 3; ++s) map.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+  return map;
+}
+
+TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
+  const VisibilityMap map = mover_then_wall(0.25);
   const auto mover = map.counts({5.05f, 0.05f, 0.05f});
   EXPECT_EQ(mover.hits, 1);
   EXPECT_EQ(mover.crossed, 3);
@@ -77,14 +82,7 @@ TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
 }
 
 TEST(WholeLogVote, TheCleanMapKeepsWhatNoRayOfTheLogWentThrough) {
-  // Something stood at x = 5.05 in scan 0; scans 1-3 saw the wall at 9.05 straight through it.
-  VisibilityConfig c;
-  c.resolution = 0.1;
-  VisibilityMap map(c);
-  map.add_hits(one(5.05f, 0.05f, 0.05f));
-  for (int s = 1; s <= 3; ++s) map.add_hits(one(9.05f, 0.05f, 0.05f));
-  map.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
-  for (int s = 1; s <= 3; ++s) map.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+  const VisibilityMap map = mover_then_wall(VisibilityConfig{}.margin);  // the wall's rays go through the mover
   EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).through, 3);
   Eigen::Matrix3Xf points(3, 3);
   points << 5.05f, 9.05f, 9.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f;
