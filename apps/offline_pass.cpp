@@ -22,7 +22,8 @@ fs::path spill_file(const fs::path& dir, std::size_t i) { return dir / (scan_nam
 
 // Where scan i's sensor was over its sweep, where the log's poses say it moved (one per scan);
 // at the scan's pose otherwise. Only for a posed scan.
-SweepOrigin sensor_of(const std::vector<StampedPose>& poses, std::size_t scans, const ScoredScan& r) {
+SweepOrigin sensor_of(const std::vector<StampedPose>& poses, std::size_t scans,
+                      const ScoredScan& r) {
   return poses.size() == scans ? sweep_origin(poses, r.index, r.scan.stamp)
                                : SweepOrigin{r.scan.pose->translation(), Eigen::Vector3d::Zero()};
 }
@@ -46,8 +47,8 @@ auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, boo
 }  // namespace
 
 OfflinePassStats run_offline_pass(
-    const std::string& command, std::size_t scans, const fs::path& spill_dir, VisibilityMap& visibility,
-    const std::vector<StampedPose>& poses, const PipelineConfig& cfg, 
+    const std::string& command, std::size_t scans, const fs::path& spill_dir,
+    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg,
     const std::function<void(ScoredScan&, const std::optional<SweepOrigin>&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan) {
   OfflinePassStats stats;
@@ -70,7 +71,10 @@ OfflinePassStats run_offline_pass(
                 const Scan& scan = s->scored.scan;
                 auto cast = std::make_shared<VisibilityMap::ScanRays>();
                 // Each ray from where the sensor was when it fired (SweepOrigin).
-                if (scan.pose) *cast = visibility.cast(scan.points, scan.time, sensor_of(poses, scans, s->scored));
+                if (scan.pose) {
+                  const SweepOrigin sensor = sensor_of(poses, scans, s->scored);
+                  *cast = visibility.cast(scan.points, scan.time, sensor);
+                }
                 std::lock_guard<std::mutex> lock(cast_time);
                 stats.rays_seconds += since(t);
                 return cast;
@@ -108,8 +112,9 @@ OfflinePassStats run_offline_pass(
           guarded_filter<std::shared_ptr<SpilledScan>, std::shared_ptr<SpilledScan>>(
               tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<SpilledScan> s) {
-                if (s->scored.scan.pose) map_scan(s->scored, sensor_of(poses, scans, s->scored));
-                else map_scan(s->scored, std::nullopt);
+                std::optional<SweepOrigin> sensor;
+                if (s->scored.scan.pose) sensor = sensor_of(poses, scans, s->scored);
+                map_scan(s->scored, sensor);
                 return s;
               }) &
           guarded_filter<std::shared_ptr<SpilledScan>, void>(

@@ -32,7 +32,7 @@ struct OfflinePassStats {
 // owns the folder, and removes it however the run ends).
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const std::filesystem::path& spill_dir,
-    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg, 
+    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg,
     const std::function<void(ScoredScan&, const std::optional<SweepOrigin>&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan);
 

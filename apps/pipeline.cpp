@@ -250,7 +250,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   progress.finish();
   if (run.offline) {
     const auto pass = run_offline_pass(
-        opt.command, run.seq.size(), run.spill_dir, *run.visibility, run.poses, cfg, 
+        opt.command, run.seq.size(), run.spill_dir, *run.visibility, run.poses, cfg,
         [&](ScoredScan& r, const std::optional<SweepOrigin>& sensor) { run.map_scan(r, sensor); },
         [&](ScoredScan& r, const std::vector<std::uint32_t>& gt) { run.write_scan(r, gt); });
     run.void_added = pass.added;

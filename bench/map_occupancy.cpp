@@ -5,10 +5,10 @@
 // map's range limit from every pose stay unknown.
 //
 //   map_occupancy --map RUN/map.ot --gt DIR/gt_cloud.pcd [--json FILE]
-#include <CLI/CLI.hpp>
 #include <octomap/AbstractOcTree.h>
 #include <octomap/OcTree.h>
 
+#include <CLI/CLI.hpp>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -34,7 +34,8 @@ std::unique_ptr<octomap::OcTree> read_tree(const std::filesystem::path& file) {
   }
   std::unique_ptr<octomap::AbstractOcTree> any(octomap::AbstractOcTree::read(file.string()));
   if (!any) fail(file, "cannot read as an OctoMap (.ot)");
-  if (!dynamic_cast<octomap::OcTree*>(any.get())) fail(file, "holds a " + any->getTreeType() + ", not an OcTree");
+  if (!dynamic_cast<octomap::OcTree*>(any.get()))
+    fail(file, "holds a " + any->getTreeType() + ", not an OcTree");
   return std::unique_ptr<octomap::OcTree>(static_cast<octomap::OcTree*>(any.release()));
 }
 
@@ -47,7 +48,8 @@ Tally tally(const octomap::OcTree& tree, const app::MapTruth& truth) {
   CellSet standing;
   octomap::OcTreeKey key;
   for (Eigen::Index i = 0; i < p.cols(); ++i) {
-    if (!truth.dynamic[static_cast<std::size_t>(i)] && tree.coordToKeyChecked(p(0, i), p(1, i), p(2, i), key)) {
+    if (!truth.dynamic[static_cast<std::size_t>(i)] &&
+        tree.coordToKeyChecked(p(0, i), p(1, i), p(2, i), key)) {
       standing.insert({key[0], key[1], key[2]});
     }
   }
@@ -57,7 +59,8 @@ Tally tally(const octomap::OcTree& tree, const app::MapTruth& truth) {
     const auto state = static_cast<std::size_t>(!node ? 2 : tree.isNodeOccupied(node) ? 0 : 1);
     const bool dynamic = truth.dynamic[static_cast<std::size_t>(i)];
     ++t[dynamic][state];
-    if (dynamic && !(tree.coordToKeyChecked(p(0, i), p(1, i), p(2, i), key) && standing.contains({key[0], key[1], key[2]}))) {
+    if (dynamic && !(tree.coordToKeyChecked(p(0, i), p(1, i), p(2, i), key) &&
+                     standing.contains({key[0], key[1], key[2]}))) {
       ++t[2][state];
     }
   }
@@ -72,10 +75,13 @@ double percent(std::size_t part, const std::array<std::size_t, 3>& all) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Shares of a DynamicMap ground truth's static and dynamic points in a map's occupied, free and unknown cells"};
+  CLI::App app{
+      "Shares of a DynamicMap ground truth's static and dynamic points in a map's occupied, free "
+      "and unknown cells"};
   std::string map, gt, json;
   app.add_option("--map", map, "The clean map (.ot or .bt)")->required();
-  app.add_option("--gt", gt, "gt_cloud.pcd (intensity 0 static, 1 dynamic), in the map's frame")->required();
+  app.add_option("--gt", gt, "gt_cloud.pcd (intensity 0 static, 1 dynamic), in the map's frame")
+      ->required();
   app.add_option("--json", json, "Also write the shares (%) to this JSON file");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -88,9 +94,11 @@ int main(int argc, char** argv) {
     std::printf("%-13s %10s %9s %9s %9s\n", "truth", "points", "occupied", "free", "unknown");
     for (int c = 0; c < 3; ++c) {
       const auto& row = t[static_cast<std::size_t>(c)];
-      std::printf("%-13s %10zu %8.2f%% %8.2f%% %8.2f%%\n", names[c], row[0] + row[1] + row[2], percent(row[0], row),
-                  percent(row[1], row), percent(row[2], row));
-      for (int s = 0; s < 3; ++s) out[std::string(names[c]) + "_" + states[s]] = percent(row[static_cast<std::size_t>(s)], row);
+      std::printf("%-13s %10zu %8.2f%% %8.2f%% %8.2f%%\n", names[c], row[0] + row[1] + row[2],
+                  percent(row[0], row), percent(row[1], row), percent(row[2], row));
+      for (int s = 0; s < 3; ++s) {
+        out[std::string(names[c]) + "_" + states[s]] = percent(row[static_cast<std::size_t>(s)], row);
+      }
     }
     if (!json.empty()) {
       std::ofstream f(json);

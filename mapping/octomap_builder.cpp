@@ -109,7 +109,8 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3
   insert(points, Eigen::VectorXf(), SweepOrigin{origin, Eigen::Vector3d::Zero()});
 }
 
-void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor) {
+void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
+                            const SweepOrigin& sensor) {
   const bool timed = times.size() == points.cols() && sensor.velocity != Eigen::Vector3d::Zero();
   auto origin_of = [&](Eigen::Index i) {
     return timed && std::isfinite(times[i]) ? sensor.at(times[i]) : sensor.start;
@@ -127,7 +128,9 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   auto rays = voxel_downsample(points, voxel);
   // In firing order: carve_ray stops where earlier rays carved on, which holds for rays from
   // about the same origin (at 5 m/s the sensor moves 5 cm while it turns 36 degrees).
-  if (timed) std::stable_sort(rays.begin(), rays.end(), [&](auto a, auto b) { return times[a] < times[b]; });
+  if (timed) {
+    std::stable_sort(rays.begin(), rays.end(), [&](auto a, auto b) { return times[a] < times[b]; });
+  }
   CellSet carved;
   for (const auto i : rays) {
     const Eigen::Vector3d p = points.col(i).cast<double>(), origin = origin_of(i);
@@ -153,7 +156,9 @@ void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& 
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if ((points.col(i).cast<double>() - origin).squaredNorm() > max_sq) continue;
     octomap::OcTreeKey key;
-    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) pinned_->insert(key_of(key));
+    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) {
+      pinned_->insert(key_of(key));
+    }
   }
 }
 

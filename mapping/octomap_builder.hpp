@@ -43,7 +43,8 @@ class OctoMapBuilder {
   // the scan's stamp, as Scan::time; one per point, or empty: all from sensor.at(0)). The
   // VisibilityMap's rays start so too (SweepOrigin says why); these carve 0.3 m cells from a
   // 0.6 m subsample, so one origin per ray is exact and costs nothing.
-  void insert(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor);
+  void insert(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
+              const SweepOrigin& sensor);
 
   // Per point: 1 when its cell was confidently observed free so far (a hit in free space).
   std::vector<std::uint8_t> hits_in_free_space(const Eigen::Matrix3Xf& points) const;

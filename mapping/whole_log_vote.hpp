@@ -53,7 +53,8 @@ WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::
 // went through are left to the OctoMap's own weighing (pinning every static point's cell
 // also kept trails of movers missed: SemanticKITTI 01's dynamic points alone in their cells
 // 2.80 -> 3.94 % occupied).
-std::vector<std::int32_t> never_gone_through(const VisibilityMap& log, const Eigen::Matrix3Xf& points,
-                                            const std::vector<std::int32_t>& among);
+std::vector<std::int32_t> never_gone_through(const VisibilityMap& log,
+                                             const Eigen::Matrix3Xf& points,
+                                             const std::vector<std::int32_t>& among);
 
 }  // namespace cleanmap

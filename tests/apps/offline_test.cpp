@@ -1,13 +1,14 @@
 // Offline runs: the spill files between the passes, and the two modes end to end.
+#include <octomap/AbstractOcTree.h>
+#include <octomap/OcTree.h>
+
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-#include <nlohmann/json.hpp>
-#include <octomap/AbstractOcTree.h>
-#include <octomap/OcTree.h>
 
 #include "apps/offline_spill.hpp"
 #include "io/cloud_file.hpp"
@@ -144,7 +145,8 @@ TEST(OfflineRun, AStaticStreetLosesNothingOffline) {
       EXPECT_EQ(read_pcd(out_dir / "map_dynamic.pcd").points, 0u);
     }
     EXPECT_EQ(s["moving"]["tp"].get<std::size_t>(), 0u);  // the labels agree: nothing moves
-    std::unique_ptr<octomap::AbstractOcTree> any(octomap::AbstractOcTree::read((out_dir / "map.ot").string()));
+    std::unique_ptr<octomap::AbstractOcTree> any(
+        octomap::AbstractOcTree::read((out_dir / "map.ot").string()));
     const auto* tree = dynamic_cast<const octomap::OcTree*>(any.get());
     ASSERT_NE(tree, nullptr);
     const Eigen::Matrix3Xf kept = read_cloud(out_dir / "map_static.pcd").points;

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <set>
 
+#include "io/cloud_file.hpp"
 #include "mapping/free_space_vote.hpp"
 #include "mapping/point_cloud_map.hpp"
-#include "io/cloud_file.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -174,7 +174,7 @@ TEST(OctoMapBuilder, ARayIsCarvedFromWhereTheSensorWasWhenItFired) {
   const auto* on_path = timed.tree().search(5.0, 1.0, 0.0);
   ASSERT_NE(on_path, nullptr);
   EXPECT_FLOAT_EQ(on_path->getLogOdds(), miss);
-  EXPECT_EQ(timed.tree().search(5.0, 0.45, 0.0), nullptr);  // the stamp's ray passes here
+  EXPECT_EQ(timed.tree().search(5.0, 0.45, 0.0), nullptr);   // the stamp's ray passes here
   EXPECT_EQ(timed.tree().search(0.15, 0.15, 0.0), nullptr);  // the stamp's origin: never carved
   EXPECT_TRUE(timed.tree().isNodeOccupied(timed.tree().search(10.0, 1.0, 0.0)));
   ASSERT_NE(untimed.tree().search(5.0, 0.45, 0.0), nullptr);
@@ -204,7 +204,8 @@ TEST(OctoMapBuilder, APinnedCellIsOccupiedAtTheEndWhateverRaysDidToIt) {
   }
   ASSERT_GT(below.size(), 10u);
   EXPECT_EQ(map.occupy_pinned(), below.size());
-  for (const auto& k : below) EXPECT_FLOAT_EQ(tree.search(octomap::OcTreeKey(k[0], k[1], k[2]))->getLogOdds(), hit);
+  for (const auto& k : below)
+    EXPECT_FLOAT_EQ(tree.search(octomap::OcTreeKey(k[0], k[1], k[2]))->getLogOdds(), hit);
   EXPECT_FLOAT_EQ(tree.search(20.0, 0.0, 0.0)->getLogOdds(), at_20);
   EXPECT_EQ(tree.search(40.0, 0.0, 0.0), nullptr);
   EXPECT_EQ(map.occupy_pinned(), 0u);  // nothing left to raise

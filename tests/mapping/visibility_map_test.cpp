@@ -82,12 +82,14 @@ TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
 }
 
 TEST(WholeLogVote, TheCleanMapKeepsWhatNoRayOfTheLogWentThrough) {
-  const VisibilityMap map = mover_then_wall(VisibilityConfig{}.margin);  // the wall's rays go through the mover
+  const VisibilityMap map =
+      mover_then_wall(VisibilityConfig{}.margin);  // the wall's rays go through the mover
   EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).through, 3);
   Eigen::Matrix3Xf points(3, 3);
   points << 5.05f, 9.05f, 9.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f;
   EXPECT_EQ(never_gone_through(map, points, {0, 1}), (std::vector<std::int32_t>{1}));
-  EXPECT_EQ(never_gone_through(map, points, {2, 0}), (std::vector<std::int32_t>{2}));  // only among `among`
+  EXPECT_EQ(never_gone_through(map, points, {2, 0}),
+            (std::vector<std::int32_t>{2}));  // only among `among`
 }
 
 TEST(VisibilityMap, MovedWhenTheLogSawThroughItOftenEnoughAsAnOctoMapWeighs) {
