@@ -72,8 +72,8 @@ struct PipelineRun {
   const PlatformMask mask;
 
   std::unique_ptr<LidarOdometry> odom;
-  std::size_t cells_pinned =
-      0;                  // map cells of static points never gone through, occupied at the end
+  // Map cells of static points never gone through, raised to occupied at the end (offline).
+  std::size_t cells_pinned = 0;
   std::mutex odom_mutex;  // stage 1 registers, stage 4 (online) or pass 1 (offline) feeds back
   // Scan 1 as read, to prime the odometry at scan 0: kept for load(1), so that it is read once.
   std::optional<LoadedScan> second;

@@ -105,6 +105,17 @@ OctoMapBuilder::OctoMapBuilder(const MapConfig& config)
 
 OctoMapBuilder::~OctoMapBuilder() = default;
 
+template <typename OriginOf>
+void OctoMapBuilder::add_hit_cells(const Eigen::Matrix3Xf& points, OriginOf&& origin_of,
+                                   CellSet& cells) const {
+  const double max_sq = config_.max_range * config_.max_range;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if ((points.col(i).cast<double>() - origin_of(i)).squaredNorm() > max_sq) continue;
+    octomap::OcTreeKey key;
+    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) cells.insert(key_of(key));
+  }
+}
+
 void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
   insert(points, Eigen::VectorXf(), SweepOrigin{origin, Eigen::Vector3d::Zero()});
 }
@@ -117,13 +128,8 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   };
   // Occupied cells from every point (one update per cell); free space carved by rays to a
   // sparser subsample only: rays are the cost, and neighbouring rays cross the same cells.
-  const double max_sq = config_.max_range * config_.max_range;
   CellSet occupied;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if ((points.col(i).cast<double>() - origin_of(i)).squaredNorm() > max_sq) continue;
-    octomap::OcTreeKey key;
-    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) occupied.insert(key_of(key));
-  }
+  add_hit_cells(points, origin_of, occupied);
   const double voxel = config_.insert_voxel > 0 ? config_.insert_voxel : config_.resolution;
   auto rays = voxel_downsample(points, voxel);
   // In firing order: carve_ray stops where earlier rays carved on, which holds for rays from
@@ -152,15 +158,9 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
 
 void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
   if (!pinned_) pinned_ = std::make_unique<CellSet>();
-  const double max_sq = config_.max_range * config_.max_range;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if ((points.col(i).cast<double>() - origin).squaredNorm() > max_sq) continue;
-    octomap::OcTreeKey key;
-    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) {
-      pinned_->insert(key_of(key));
-    }
-  }
+  add_hit_cells(points, [&](Eigen::Index) { return origin; }, *pinned_);
 }
+
 
 std::size_t OctoMapBuilder::occupy_pinned() {
   if (!pinned_) return 0;

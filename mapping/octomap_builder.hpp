@@ -68,6 +68,10 @@ class OctoMapBuilder {
   MapConfig config_;
   std::unique_ptr<octomap::OcTree> tree_;
   std::unique_ptr<CellSet> pinned_;
+  // The cells of `points` within max_range of their origin (`origin_of(i)`), into `cells`:
+  // what insert marks occupied and pin keeps.
+  template <typename OriginOf>
+  void add_hit_cells(const Eigen::Matrix3Xf& points, OriginOf&& origin_of, CellSet& cells) const;
 };
 
 }  // namespace cleanmap
