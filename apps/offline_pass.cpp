@@ -25,7 +25,7 @@ fs::path spill_file(const fs::path& dir, std::size_t i) { return dir / (scan_nam
 SweepOrigin sensor_of(const std::vector<StampedPose>& poses, std::size_t scans,
                       const ScoredScan& r) {
   return poses.size() == scans ? sweep_origin(poses, r.index, r.scan.stamp)
-                               : SweepOrigin{r.scan.pose->translation(), Eigen::Vector3d::Zero()};
+                               : SweepOrigin{r.scan.pose->translation()};
 }
 
 // The first stage of a sweep: spills 0..scans-1 in order, each deleted once read when

@@ -40,13 +40,14 @@ void PipelineRun::map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sens
     for (std::size_t i = 0; i < scan.size(); ++i) {
       if (!r.dynamic[i]) keep.push_back(static_cast<std::int32_t>(i));
     }
-    const Eigen::VectorXf times =
-        scan.has_time() ? Eigen::VectorXf(scan.time(keep)) : Eigen::VectorXf();
-    octo->insert(scan.points(Eigen::all, keep), times,
-                 sensor ? *sensor : SweepOrigin{scan.pose->translation(), Eigen::Vector3d::Zero()});
+    const SweepOrigin from = sensor ? *sensor : SweepOrigin{scan.pose->translation()};
+    auto times_of = [&](const std::vector<std::int32_t>& idx) {
+      return scan.has_time() ? Eigen::VectorXf(scan.time(idx)) : Eigen::VectorXf();
+    };
+    octo->insert(scan.points(Eigen::all, keep), times_of(keep), from);
     if (visibility) {
       const auto solid = never_gone_through(*visibility, scan.points, keep);
-      octo->pin(scan.points(Eigen::all, solid), scan.pose->translation());
+      octo->pin(scan.points(Eigen::all, solid), times_of(solid), from);
     }
   }
   mapping_s += since(t);

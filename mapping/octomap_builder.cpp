@@ -105,9 +105,25 @@ OctoMapBuilder::OctoMapBuilder(const MapConfig& config)
 
 OctoMapBuilder::~OctoMapBuilder() = default;
 
-template <typename OriginOf>
-void OctoMapBuilder::add_hit_cells(const Eigen::Matrix3Xf& points, OriginOf&& origin_of,
-                                   CellSet& cells) const {
+namespace {
+
+// Where the sensor was when it fired point i: `times` one per point (else all from the start).
+struct RayOrigins {
+  const Eigen::VectorXf& times;
+  const SweepOrigin& sensor;
+  bool timed;
+  RayOrigins(const Eigen::VectorXf& t, const SweepOrigin& s, Eigen::Index points)
+      : times(t), sensor(s), timed(t.size() == points && s.velocity != Eigen::Vector3d::Zero()) {}
+  Eigen::Vector3d operator()(Eigen::Index i) const {
+    return timed && std::isfinite(times[i]) ? sensor.at(times[i]) : sensor.start;
+  }
+};
+
+}  // namespace
+
+void OctoMapBuilder::add_hit_cells(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
+                                   const SweepOrigin& sensor, CellSet& cells) const {
+  const RayOrigins origin_of(times, sensor, points.cols());
   const double max_sq = config_.max_range * config_.max_range;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if ((points.col(i).cast<double>() - origin_of(i)).squaredNorm() > max_sq) continue;
@@ -117,24 +133,21 @@ void OctoMapBuilder::add_hit_cells(const Eigen::Matrix3Xf& points, OriginOf&& or
 }
 
 void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
-  insert(points, Eigen::VectorXf(), SweepOrigin{origin, Eigen::Vector3d::Zero()});
+  insert(points, Eigen::VectorXf(), SweepOrigin{origin});
 }
 
 void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
                             const SweepOrigin& sensor) {
-  const bool timed = times.size() == points.cols() && sensor.velocity != Eigen::Vector3d::Zero();
-  auto origin_of = [&](Eigen::Index i) {
-    return timed && std::isfinite(times[i]) ? sensor.at(times[i]) : sensor.start;
-  };
+  const RayOrigins origin_of(times, sensor, points.cols());
   // Occupied cells from every point (one update per cell); free space carved by rays to a
   // sparser subsample only: rays are the cost, and neighbouring rays cross the same cells.
   CellSet occupied;
-  add_hit_cells(points, origin_of, occupied);
+  add_hit_cells(points, times, sensor, occupied);
   const double voxel = config_.insert_voxel > 0 ? config_.insert_voxel : config_.resolution;
   auto rays = voxel_downsample(points, voxel);
   // In firing order: carve_ray stops where earlier rays carved on, which holds for rays from
   // about the same origin (at 5 m/s the sensor moves 5 cm while it turns 36 degrees).
-  if (timed) {
+  if (origin_of.timed) {
     std::stable_sort(rays.begin(), rays.end(), [&](auto a, auto b) { return times[a] < times[b]; });
   }
   CellSet carved;
@@ -156,11 +169,10 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   occupied.for_each_in_tree_order([&](const CellSet::Key& k) { tree.update(tree_key(k), true); });
 }
 
-void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
+void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor) {
   if (!pinned_) pinned_ = std::make_unique<CellSet>();
-  add_hit_cells(points, [&](Eigen::Index) { return origin; }, *pinned_);
+  add_hit_cells(points, times, sensor, *pinned_);
 }
-
 
 std::size_t OctoMapBuilder::occupy_pinned() {
   if (!pinned_) return 0;

@@ -55,10 +55,10 @@ class OctoMapBuilder {
   void write_occupancy_grid(const std::filesystem::path& pgm, double z_min, double z_max);
 
   // Cells to be occupied at the end whatever rays do to them later (`points`, world frame,
-  // within max_range of `origin`, as insert): static points no ray of the whole log went
-  // through (never_gone_through, pass 2). occupy_pinned raises each to at least one hit's
-  // log-odds (prob_hit), and returns how many it raised.
-  void pin(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin);
+  // within max_range of where the sensor was at each point's time, exactly as insert): static
+  // points no ray of the whole log went through (never_gone_through, pass 2). occupy_pinned
+  // raises each to at least one hit's log-odds (prob_hit), and returns how many it raised.
+  void pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor);
   std::size_t occupy_pinned();
 
   std::size_t leaf_count() const;
@@ -68,10 +68,10 @@ class OctoMapBuilder {
   MapConfig config_;
   std::unique_ptr<octomap::OcTree> tree_;
   std::unique_ptr<CellSet> pinned_;
-  // The cells of `points` within max_range of their origin (`origin_of(i)`), into `cells`:
-  // what insert marks occupied and pin keeps.
-  template <typename OriginOf>
-  void add_hit_cells(const Eigen::Matrix3Xf& points, OriginOf&& origin_of, CellSet& cells) const;
+  // The cells of `points` within max_range of where the sensor was at each one's time, into
+  // `cells`: what insert marks occupied and pin keeps.
+  void add_hit_cells(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor,
+                     CellSet& cells) const;
 };
 
 }  // namespace cleanmap

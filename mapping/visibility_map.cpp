@@ -269,7 +269,7 @@ void VisibilityMap::add_rays(const Eigen::Matrix3Xf& points, const Eigen::Vector
 }
 
 VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) const {
-  return cast(points, Eigen::VectorXf(), SweepOrigin{origin, Eigen::Vector3d::Zero()});
+  return cast(points, Eigen::VectorXf(), SweepOrigin{origin});
 }
 
 VisibilityMap::ScanRays VisibilityMap::cast(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,

@@ -187,13 +187,13 @@ TEST(OctoMapBuilder, APinnedCellIsOccupiedAtTheEndWhateverRaysDidToIt) {
   OctoMapBuilder map(config);
   const auto& tree = map.tree();
   map.insert(wall(10), Eigen::Vector3d::Zero());
-  map.pin(wall(10), Eigen::Vector3d::Zero());
-  map.pin(wall(40), Eigen::Vector3d::Zero());  // beyond max_range (30 m): as insert, not a hit
+  map.pin(wall(10), Eigen::VectorXf(), SweepOrigin{});
+  map.pin(wall(40), Eigen::VectorXf(), SweepOrigin{});  // beyond max_range (30 m): as insert, not a hit
   // A wall at 20 m seen through the first one's place six times: its cells go free.
   for (int k = 0; k < 6; ++k) map.insert(wall(20), Eigen::Vector3d::Zero());
   ASSERT_FALSE(tree.isNodeOccupied(tree.search(10.0, 0.0, 0.0)));
   const auto at_20 = tree.search(20.0, 0.0, 0.0)->getLogOdds();
-  map.pin(wall(20), Eigen::Vector3d::Zero());  // more than one hit already: left as it is
+  map.pin(wall(20), Eigen::VectorXf(), SweepOrigin{});  // more than one hit already: left as it is
   // The cells of the first wall the rays left under one hit's log-odds: those it raises.
   const float hit = octomap::logodds(config.prob_hit);
   std::set<std::array<std::uint16_t, 3>> below;
@@ -209,6 +209,25 @@ TEST(OctoMapBuilder, APinnedCellIsOccupiedAtTheEndWhateverRaysDidToIt) {
   EXPECT_FLOAT_EQ(tree.search(20.0, 0.0, 0.0)->getLogOdds(), at_20);
   EXPECT_EQ(tree.search(40.0, 0.0, 0.0), nullptr);
   EXPECT_EQ(map.occupy_pinned(), 0u);  // nothing left to raise
+}
+
+TEST(OctoMapBuilder, APointIsPinnedWithinRangeOfWhereTheSensorWasAsItIsInserted) {
+  // The sensor moves along x at 10 m/s; the point 30.5 m from the stamp's origin was fired
+  // 0.1 s into the sweep, from (1, 0, 0): 29.5 m, within max_range (30 m). Both insert and pin
+  // read the range from there, so a cell is never pinned that was not inserted, or the reverse.
+  const SweepOrigin sensor{Eigen::Vector3d::Zero(), Eigen::Vector3d(10, 0, 0)};
+  const Eigen::Matrix3Xf point = Eigen::Vector3f(30.5f, 0, 0);
+  const Eigen::VectorXf late = Eigen::VectorXf::Constant(1, 0.1f);
+  const MapConfig config;
+  OctoMapBuilder inserted(config), pinned(config), from_stamp(config);
+  inserted.insert(point, late, sensor);
+  pinned.pin(point, late, sensor);
+  from_stamp.pin(point, Eigen::VectorXf(), sensor);  // no times: from sensor.at(0), 30.5 m
+  ASSERT_NE(inserted.tree().search(30.5, 0.0, 0.0), nullptr);
+  EXPECT_TRUE(inserted.tree().isNodeOccupied(inserted.tree().search(30.5, 0.0, 0.0)));
+  EXPECT_EQ(pinned.occupy_pinned(), 1u);
+  EXPECT_FLOAT_EQ(pinned.tree().search(30.5, 0.0, 0.0)->getLogOdds(), octomap::logodds(config.prob_hit));
+  EXPECT_EQ(from_stamp.occupy_pinned(), 0u);
 }
 
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {

@@ -88,7 +88,7 @@ TEST(VisibilityMap, ASweepsRaysAreCastFromOnePlaceWhenTheSensorStandsOrHasNoTime
     map.add_hits(wall);
     map.fit_surfaces();
     if (way == 0) map.count(map.cast(wall, origin));
-    if (way == 1) map.count(map.cast(wall, times, SweepOrigin{origin, Eigen::Vector3d::Zero()}));
+    if (way == 1) map.count(map.cast(wall, times, SweepOrigin{origin}));
     if (way == 2) map.count(map.cast(wall, Eigen::VectorXf(), SweepOrigin{origin, Eigen::Vector3d(0, -5, 0)}));
     through.push_back(map.counts(Eigen::Vector3f(4.1f, 1.1f, 1.1f)).through);
   }
