@@ -14,6 +14,7 @@
 #include "evaluation/map_metrics.hpp"
 #include "evaluation/object_motion.hpp"
 #include "evaluation/trajectory_metrics.hpp"
+#include "io/close_checked.hpp"
 #include "io/cloud_file.hpp"
 #include "io/label_file.hpp"
 #include "io/sequence.hpp"
@@ -31,6 +32,7 @@ void write_json(const fs::path& file, const nlohmann::json& j) {
   std::ofstream out(file);
   if (!out) fail(file, "cannot create file");
   out << j.dump(2) << '\n';
+  close_checked(out, file);
 }
 
 struct TrajectoryArgs {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap::app {
@@ -64,6 +65,7 @@ void write_pose_files(const std::filesystem::path& out, const std::vector<Stampe
   if (!times) fail(out / "times.txt", "cannot create file");
   times << std::fixed << std::setprecision(6);
   for (const auto& p : poses) times << p.stamp << '\n';
+  close_checked(times, out / "times.txt");
 }
 
 nlohmann::json pose_files_json(const std::optional<Eigen::Isometry3d>& kitti_tr, double reference_offset) {

@@ -1,4 +1,5 @@
 #include "apps/preset_yaml.hpp"
+#include "io/close_checked.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -59,7 +60,7 @@ std::string preset_yaml(const PipelineConfig& c, int sections) {
 void write_preset(const std::filesystem::path& out, const PipelineConfig& config, int sections) {
   std::ofstream f(out / "config.yaml");
   f << preset_yaml(config, sections);
-  if (!f) fail(out / "config.yaml", "write failed");
+  close_checked(f, out / "config.yaml");
 }
 
 }  // namespace cleanmap::app

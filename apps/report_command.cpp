@@ -8,6 +8,7 @@
 #include "apps/installed_file.hpp"
 #include "apps/output_dir.hpp"
 #include "evaluation/trajectory_metrics.hpp"
+#include "io/close_checked.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
 
@@ -78,6 +79,7 @@ void make_report(const fs::path& out, fs::path ref, const std::string& python, c
     std::ofstream f(data.path);
     if (!f) fail(data.path, "cannot create file");
     f << d.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    close_checked(f, data.path);
   }
   std::string cmd = "'" + python + "' '" + script.string() + "' '" + out.string() + "' '" + data.path.string() + "'";
   if (!viewer.empty()) cmd += " '" + viewer.string() + "'";

@@ -6,8 +6,10 @@
 #include <pcl/io/ply_io.h>
 
 #include <fstream>
+#include <sstream>
 
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 #include "io/pcd_file.hpp"
 #include "io/ply_file.hpp"
@@ -45,7 +47,27 @@ void write_empty_cloud(const std::filesystem::path& file, const std::vector<std:
   } else {
     fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
   }
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
+}
+
+// Through a stream, not PCL's file writers: those map the file into memory, and on a full disk
+// the copy into the mapping killed the run with SIGBUS (PCL 1.13, a 30 MB tmpfs as --out),
+// where a stream's write fails and says so. PCL still makes the header and the compressed body
+// (in memory: its stream writer, given a file stream that failed, threw std::bad_cast).
+void write_pcd(const std::filesystem::path& file, const pcl::PCLPointCloud2& cloud, const Eigen::Vector4f& origin,
+               const Eigen::Quaternionf& orientation, bool compressed) {
+  pcl::PCDWriter writer;
+  std::ostringstream packed;
+  if (compressed && writer.writeBinaryCompressed(packed, cloud, origin, orientation) < 0) fail(file, "write failed");
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) fail(file, "cannot create file");
+  if (compressed) {
+    out << packed.str();
+  } else {
+    out << writer.generateHeaderBinary(cloud, origin, orientation) << "DATA binary\n";
+    out.write(reinterpret_cast<const char*>(cloud.data.data()), static_cast<std::streamsize>(cloud.data.size()));
+  }
+  close_checked(out, file);
 }
 
 }  // namespace
@@ -124,17 +146,19 @@ void write_cloud(const std::filesystem::path& file, const Scan& scan,
     write_empty_cloud(file, fields, ext, origin, orientation);
     return;
   }
-  int rc = -1;
   if (ext == ".pcd") {
-    pcl::PCDWriter writer;
-    rc = options.compressed ? writer.writeBinaryCompressed(file.string(), cloud, origin, orientation)
-                    : writer.writeBinary(file.string(), cloud, origin, orientation);
+    write_pcd(file, cloud, origin, orientation, options.compressed);
   } else if (ext == ".ply") {
-    rc = pcl::PLYWriter().writeBinary(file.string(), cloud, origin, orientation, true);
+    // PCL's PLY writer does not look at its stream after writing: a file shorter than its
+    // points (a full disk) is caught here.
+    std::error_code ec;
+    if (pcl::PLYWriter().writeBinary(file.string(), cloud, origin, orientation, true) < 0 ||
+        std::filesystem::file_size(file, ec) < cloud.data.size() || ec) {
+      fail(file, "write failed (disk full?)");
+    }
   } else {
     fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
   }
-  if (rc < 0) fail(file, "write failed");
 }
 
 }  // namespace cleanmap

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 #include "io/label_file.hpp"
 #include "io/yaml_file.hpp"
@@ -159,7 +160,7 @@ void write_depth_intrinsics(const fs::path& file, const DepthIntrinsics& k) {
     const auto& d = *k.distortion;
     out << "distortion: [" << d[0] << ", " << d[1] << ", " << d[2] << ", " << d[3] << ", " << d[4] << "]\n";
   }
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 std::array<double, 2> undistort(const DepthIntrinsics& k, double u, double v) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/bag_common.hpp"
+#include "io/close_checked.hpp"
 #include "io/depth_image.hpp"
 #include "io/error.hpp"
 #include "io/pose_file.hpp"
@@ -77,7 +78,7 @@ void write_depth_list(const fs::path& file, const std::vector<DepthFrameEntry>& 
   out << "# depth maps\n# timestamp filename\n";
   out.precision(17);
   for (const auto& f : frames) out << std::fixed << f.stamp << " " << f.file << "\n";
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 Sequence open_tum_rgbd(const fs::path& folder, const SequenceOptions& options) {

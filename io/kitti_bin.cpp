@@ -3,6 +3,7 @@
 #include <fstream>
 #include <vector>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap {
@@ -51,7 +52,7 @@ void write_kitti_bin(const std::filesystem::path& file, const Scan& scan) {
   if (!out) fail(file, "cannot create file");
   out.write(reinterpret_cast<const char*>(raw.data()),
             static_cast<std::streamsize>(raw.size() * sizeof(float)));
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 }  // namespace cleanmap

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <string>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap {
@@ -33,7 +34,7 @@ void write_labels(const std::filesystem::path& file, const std::vector<std::uint
   if (!out) fail(file, "cannot create file");
   out.write(reinterpret_cast<const char*>(labels.data()),
             static_cast<std::streamsize>(labels.size() * sizeof(std::uint32_t)));
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 }  // namespace cleanmap

@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap {
@@ -121,7 +122,7 @@ void write_kitti_poses(const std::filesystem::path& file,
       for (int c = 0; c < 4; ++c) out << m(r, c) << ((r == 2 && c == 3) ? '\n' : ' ');
     }
   }
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 void write_tum_poses(const std::filesystem::path& file, const std::vector<StampedPose>& poses) {
@@ -133,7 +134,7 @@ void write_tum_poses(const std::filesystem::path& file, const std::vector<Stampe
         << std::setprecision(9) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x()
         << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
   }
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 std::vector<double> read_times(const std::filesystem::path& file) {

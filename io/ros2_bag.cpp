@@ -6,6 +6,7 @@
 #include <functional>
 #include <set>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 #include "io/mcap_file.hpp"
 #include "io/raw_cloud.hpp"
@@ -108,7 +109,7 @@ void write_ros2_metadata(const fs::path& folder, const std::string& storage, con
     << YAML::Value << "" << YAML::Key << "relative_file_paths" << YAML::Value << files << YAML::EndMap << YAML::EndMap;
   std::ofstream out(folder / "metadata.yaml");
   out << y.c_str() << "\n";
-  if (!out) fail(folder / "metadata.yaml", "write failed");
+  close_checked(out, folder / "metadata.yaml");
 }
 
 // The bag's storage files and where each wanted message lies in them.

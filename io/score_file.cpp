@@ -3,6 +3,7 @@
 #include <fstream>
 #include <string>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap {
@@ -28,7 +29,7 @@ void write_scores(const std::filesystem::path& file, const std::vector<float>& s
   if (!out) fail(file, "cannot create file");
   out.write(reinterpret_cast<const char*>(scores.data()),
             static_cast<std::streamsize>(scores.size() * sizeof(float)));
-  if (!out) fail(file, "write failed");
+  close_checked(out, file);
 }
 
 }  // namespace cleanmap

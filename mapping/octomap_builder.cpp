@@ -12,6 +12,7 @@
 #include <limits>
 #include <mutex>
 
+#include "io/close_checked.hpp"
 #include "io/error.hpp"
 #include "geometry/voxel_downsample.hpp"
 #include "mapping/carve_ray.hpp"
@@ -71,6 +72,22 @@ class QuietStderr {
   std::lock_guard<std::mutex> lock_;
   int saved_ = -1;
 };
+
+// An OctoMap written to `file` through a stream whose state is checked: OctoMap's own file
+// writers return true on a full disk (a warning on stderr, which QuietStderr hides), and the
+// run reported a truncated map.ot as complete.
+template <typename Write>
+void write_checked(const std::filesystem::path& file, Write&& write) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) fail(file, "cannot create OctoMap file");
+  bool ok = false;
+  {
+    QuietStderr quiet;
+    ok = write(out);
+  }
+  if (!ok) fail(file, "write failed (disk full?)");
+  close_checked(out, file);
+}
 
 }  // namespace
 
@@ -223,23 +240,13 @@ void OctoMapBuilder::write_binary(const std::filesystem::path& file) {
   octomap::OcTree binary(*tree_);
   binary.toMaxLikelihood();
   binary.prune();
-  bool ok = false;
-  {
-    QuietStderr quiet;
-    ok = binary.writeBinaryConst(file.string());
-  }
-  if (!ok) fail(file, "cannot write OctoMap");
+  write_checked(file, [&](std::ostream& out) { return binary.writeBinaryConst(out); });
 }
 
 void OctoMapBuilder::write_full(const std::filesystem::path& file) {
   tree_->updateInnerOccupancy();
   tree_->prune();  // lossless: merges only children with equal log-odds (the clamped ones)
-  bool ok = false;
-  {
-    QuietStderr quiet;
-    ok = tree_->write(file.string());
-  }
-  if (!ok) fail(file, "cannot write OctoMap");
+  write_checked(file, [&](std::ostream& out) { return tree_->write(out); });
 }
 
 namespace {
@@ -323,6 +330,7 @@ void OctoMapBuilder::write_occupancy_grid(const std::filesystem::path& pgm, doub
     if (!out) fail(pgm, "cannot create file");
     out << "P5\n" << w << ' ' << h << "\n255\n";
     out.write(reinterpret_cast<const char*>(grid.data()), static_cast<std::streamsize>(grid.size()));
+    close_checked(out, pgm);
   }
   auto yaml = pgm;
   yaml.replace_extension(".yaml");
@@ -330,6 +338,7 @@ void OctoMapBuilder::write_occupancy_grid(const std::filesystem::path& pgm, doub
   if (!meta) fail(yaml, "cannot create file");
   meta << "image: " << pgm.filename().string() << "\nresolution: " << res << "\norigin: [" << x0
        << ", " << y0 << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  close_checked(meta, yaml);
 }
 
 std::size_t OctoMapBuilder::leaf_count() const { return tree_->getNumLeafNodes(); }

@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "io/error.hpp"
 #include "io/sequence.hpp"
 #include "tests/test_support.hpp"
 
@@ -45,6 +46,28 @@ TEST(CloudFile, CompressedPcdAndPlyRoundTrip) {
     EXPECT_TRUE(r.points.isApprox(s.points)) << name;
     EXPECT_TRUE(r.intensity.isApprox(s.intensity)) << name;
     EXPECT_TRUE(r.time.isApprox(s.time)) << name;
+  }
+}
+
+TEST(CloudFile, AFullDiskFailsTheWriteNamingTheFile) {
+  // /dev/full refuses every write (ENOSPC), as a full disk does. PCL's PCD file writer maps the
+  // file into memory, and on a full disk the copy into it killed the process with SIGBUS.
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::TempDir dir;
+  Scan big = timed_scan();
+  big.points = Eigen::Matrix3Xf::Random(3, 100000);  // more than a stream's buffer
+  big.intensity = Eigen::VectorXf::Zero(100000);
+  big.time = Eigen::VectorXf::Zero(100000);
+  CloudWriteOptions compressed;
+  compressed.compressed = true;
+  for (const char* name : {"a.pcd", "c.pcd", "p.ply"}) {
+    std::filesystem::create_symlink("/dev/full", dir / name);
+    try {
+      write_cloud(dir / name, big, {}, std::string(name) == "c.pcd" ? compressed : CloudWriteOptions{});
+      ADD_FAILURE() << name << ": written to a full disk";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
   }
 }
 

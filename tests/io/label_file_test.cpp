@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "io/error.hpp"
+#include "io/pose_file.hpp"
+#include "io/score_file.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -45,6 +48,28 @@ TEST(ScoreFile, RoundTripsIncludingNotScoredAndChecksTheCount) {
   EXPECT_FLOAT_EQ(r[1], 0.25f);
   EXPECT_TRUE(std::isnan(r[2]));
   test::expect_error([&] { read_scores(dir / "000003.bin", 5); }, {"000003.bin", "4 scores", "5 points"});
+}
+
+TEST(PerScanFiles, AFullDiskFailsEveryWriteNamingTheFile) {
+  // /dev/full refuses every write, as a full disk does. A few hundred bytes stay in the stream's
+  // buffer until it is closed: the write must not end before they are out.
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::TempDir dir;
+  for (const char* name : {"a.label", "a.bin", "kitti.txt", "tum.txt"}) {
+    std::filesystem::create_symlink("/dev/full", dir / name);
+  }
+  auto refused = [&](const char* name, auto&& write) {
+    try {
+      write();
+      ADD_FAILURE() << name << ": written to a full disk";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  refused("a.label", [&] { write_labels(dir / "a.label", std::vector<std::uint32_t>(100, kLabelStatic)); });
+  refused("a.bin", [&] { write_scores(dir / "a.bin", std::vector<float>(100, 0.5f)); });
+  refused("kitti.txt", [&] { write_kitti_poses(dir / "kitti.txt", {Eigen::Isometry3d::Identity()}); });
+  refused("tum.txt", [&] { write_tum_poses(dir / "tum.txt", {StampedPose{}}); });
 }
 
 }  // namespace

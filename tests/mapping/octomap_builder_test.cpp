@@ -8,6 +8,7 @@
 #include <set>
 
 #include "io/cloud_file.hpp"
+#include "io/error.hpp"
 #include "mapping/free_space_vote.hpp"
 #include "mapping/point_cloud_map.hpp"
 #include "tests/test_support.hpp"
@@ -228,6 +229,30 @@ TEST(OctoMapBuilder, APointIsPinnedWithinRangeOfWhereTheSensorWasAsItIsInserted)
   EXPECT_EQ(pinned.occupy_pinned(), 1u);
   EXPECT_FLOAT_EQ(pinned.tree().search(30.5, 0.0, 0.0)->getLogOdds(), octomap::logodds(config.prob_hit));
   EXPECT_EQ(from_stamp.occupy_pinned(), 0u);
+}
+
+TEST(OctoMapBuilder, AFullDiskFailsEveryMapWriteNamingTheFile) {
+  // /dev/full refuses every write, as a full disk does; OctoMap's own file writers return true
+  // there (a warning on stderr), and a truncated map.ot was reported complete.
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::TempDir dir;
+  OctoMapBuilder map(MapConfig{});
+  for (int k = 0; k < 3; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
+  for (const char* name : {"map.bt", "map.ot", "grid.pgm"}) std::filesystem::create_symlink("/dev/full", dir / name);
+  auto refused = [&](const char* name, auto&& write) {
+    try {
+      write();
+      ADD_FAILURE() << name << ": written to a full disk";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  refused("map.bt", [&] { map.write_binary(dir / "map.bt"); });
+  refused("map.ot", [&] { map.write_full(dir / "map.ot"); });
+  refused("grid.pgm", [&] { map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0); });
+  std::filesystem::remove(dir / "grid.pgm");
+  std::filesystem::create_symlink("/dev/full", dir / "grid.yaml");
+  refused("grid.yaml", [&] { map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0); });
 }
 
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
