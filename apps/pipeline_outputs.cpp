@@ -161,6 +161,7 @@ void PipelineRun::write_maps() {
 void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
   if (opt.mapping) summary["octomap_leaves"] = octo->leaf_count();
   if (opt.mapping && offline) summary["octomap_cells_pinned"] = cells_pinned;
+  if (offline) summary["spill_bytes"] = spill_bytes;
   if (use_odometry) {
     summary["pose_files"] = pose_files_json(seq.calib_tr, poses.empty() ? 0.0 : poses.front().stamp - seq.times.front());
   }

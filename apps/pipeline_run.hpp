@@ -74,6 +74,8 @@ struct PipelineRun {
   std::unique_ptr<LidarOdometry> odom;
   // Map cells of static points never gone through, raised to occupied at the end (offline).
   std::size_t cells_pinned = 0;
+  // Bytes of the scans spilled between the passes (offline): the disk the run held at its peak.
+  std::size_t spill_bytes = 0;
   std::mutex odom_mutex;  // stage 1 registers, stage 4 (online) or pass 1 (offline) feeds back
   // Scan 1 as read, to prime the odometry at scan 0: kept for load(1), so that it is read once.
   std::optional<LoadedScan> second;

@@ -2,6 +2,8 @@
 #include <octomap/AbstractOcTree.h>
 #include <octomap/OcTree.h>
 
+#include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -58,14 +60,77 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   EXPECT_EQ(back.labels, (std::vector<std::uint32_t>{9, 9, 251}));
   EXPECT_EQ(back.scored.scans_after, 4);
   EXPECT_EQ(back.scored.tracked_points, 1u);
-  // Cut short: one clear error naming the file, never a half-read scan.
-  std::filesystem::resize_file(file, std::filesystem::file_size(file) - 9);
-  try {
-    app::read_spill(file);
-    FAIL() << "read a truncated spill";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("a.spill"), std::string::npos) << e.what();
+  // Cut short, a header that lies about the size it holds, a frame of noise: one clear error
+  // naming the file, never a half-read scan or an allocation of what the header claims.
+  const std::string whole = [&] {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  auto refused = [&](const std::string& bytes, const char* what) {
+    SCOPED_TRACE(what);
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+    test::expect_error([&] { app::read_spill(file); }, {"a.spill"});
+  };
+  refused(whole.substr(0, whole.size() - 9), "cut short");
+  refused(whole.substr(0, 12), "cut inside its header");
+  std::string lying = whole;
+  const std::uint64_t huge = std::uint64_t{1} << 40;  // 1 TiB from a few hundred bytes
+  std::memcpy(lying.data() + 8, &huge, sizeof huge);
+  refused(lying, "claiming 1 TiB");
+  std::string noise = whole;
+  for (std::size_t i = 24; i < noise.size(); ++i) noise[i] = static_cast<char>(i * 37);
+  refused(noise, "whose frame is noise");
+  refused(whole + "x", "with a byte after its frame");
+}
+
+TEST(OfflineSpill, AScanSpillsInUnderHalfItsBytes) {
+  // 20k points of a street-like cloud (x y z, intensity, times, input order, scores): the byte
+  // planes compress its sign, exponent and index bytes away. 29 bytes a point raw.
+  test::TempDir dir;
+  ScoredScan r;
+  const int n = 20000;
+  r.scan.name = "000001";
+  r.scan.points.resize(3, n);
+  r.scan.intensity.resize(n);
+  r.scan.time.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = 0.01 * i;
+    r.scan.points.col(i) << static_cast<float>(10 + 20 * std::cos(a)), static_cast<float>(-5 + 20 * std::sin(a)),
+        static_cast<float>(-1.7 + 0.001 * (i % 64));
+    r.scan.intensity[i] = static_cast<float>(i % 100);
+    r.scan.time[i] = 0.1f * static_cast<float>(i) / n;
+    r.scan.input_index.push_back(i);
   }
+  r.scan.input_size = n;
+  r.score.assign(n, 0.25f);
+  r.dynamic.assign(n, 0);
+  const auto bytes = app::write_spill(dir / "b.spill", r, {});
+  EXPECT_EQ(bytes, std::filesystem::file_size(dir / "b.spill"));
+  EXPECT_LT(bytes, 29u * n / 2);
+  const auto back = app::read_spill(dir / "b.spill");
+  EXPECT_EQ(back.scored.scan.points, r.scan.points);  // exact: nothing is rounded
+  EXPECT_EQ(back.scored.scan.time, r.scan.time);
+}
+
+TEST(OfflineSpill, ARunWhoseSpillsWillNotFitSaysSoAfterItsFirstScans) {
+  const std::filesystem::path dir = "/data/out/.offline";
+  // 10 scans spilled 1 GB; 100 to come need 10 GB more.
+  const std::size_t gb = 1000000000;
+  EXPECT_EQ(app::spill_space_problem(dir, gb, 10, 100, 10 * gb + 1), "");
+  const auto line = app::spill_space_problem(dir, gb, 10, 100, 10 * gb - 1);
+  EXPECT_EQ(line.rfind("/data/out/.offline: ", 0), 0u) << line;
+  EXPECT_NE(line.find("10.0 GB more for 100 scans"), std::string::npos) << line;
+  EXPECT_NE(line.find("100.0 MB a scan"), std::string::npos) << line;
+  EXPECT_NE(line.find("--online"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos);  // one line
+  EXPECT_EQ(app::spill_space_problem(dir, gb, 0, 100, 0), "");   // nothing spilled yet
+  EXPECT_EQ(app::spill_space_problem(dir, gb, 10, 0, 0), "");    // the last scan is in
+  // This disk has room for a few kilobytes more: no error.
+  test::TempDir tmp;
+  EXPECT_NO_THROW(app::check_spill_space(tmp.path, 1000, 1, 1));
+  // And none for an exabyte a scan.
+  test::expect_error([&] { app::check_spill_space(tmp.path, std::size_t{1} << 60, 1, 1); },
+                     {tmp.path.string() + ": ", "--online"});
 }
 
 nlohmann::json summary_of(const std::filesystem::path& out) {
