@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <fstream>
 
-#include "apps/commands.hpp"
 #include "apps/box_truth_options.hpp"
+#include "apps/commands.hpp"
 #include "apps/config_fields.hpp"
 #include "apps/map_truth.hpp"
 #include "apps/output_dir.hpp"

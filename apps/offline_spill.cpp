@@ -98,10 +98,12 @@ struct Reader {
 };
 
 Bytes compress(const Bytes& raw) {
-  thread_local std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> ctx(ZSTD_createCCtx(), &ZSTD_freeCCtx);
+  thread_local std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> ctx(ZSTD_createCCtx(),
+                                                                        &ZSTD_freeCCtx);
   if (!ctx) throw Error("zstd: cannot create a compression context");
   Bytes out(ZSTD_compressBound(raw.size));
-  const std::size_t n = ZSTD_compressCCtx(ctx.get(), out.data.get(), out.capacity, raw.data.get(), raw.size, kLevel);
+  const std::size_t n =
+      ZSTD_compressCCtx(ctx.get(), out.data.get(), out.capacity, raw.data.get(), raw.size, kLevel);
   if (ZSTD_isError(n)) throw Error(std::string("zstd: ") + ZSTD_getErrorName(n));
   out.size = n;
   return out;
@@ -111,24 +113,29 @@ Bytes compress(const Bytes& raw) {
 // never what a header claims (zstd shrinks a run of one byte 30000-fold): at first what a spill
 // could hold at 16 times its size (they shrink 2-3 fold), more only as the frame proves it.
 Bytes decompress(const std::filesystem::path& file, const Bytes& frame, std::uint64_t raw_size) {
-  thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  thread_local std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(),
+                                                                        &ZSTD_freeDCtx);
   if (!ctx) throw Error("zstd: cannot create a decompression context");
   ZSTD_DCtx_reset(ctx.get(), ZSTD_reset_session_only);
   Bytes raw(static_cast<std::size_t>(std::min<std::uint64_t>(raw_size, 16 * frame.size + 4096)));
   ZSTD_inBuffer in{frame.data.get(), frame.size, 0};
   while (true) {
     // Full: twice as much room, but never past one byte more than the header says.
-    if (raw.size == raw.capacity) raw.reserve(raw.capacity + std::min<std::size_t>(raw.capacity + 1, raw_size - raw.size + 1));
+    if (raw.size == raw.capacity)
+      raw.reserve(raw.capacity + std::min<std::size_t>(raw.capacity + 1, raw_size - raw.size + 1));
     ZSTD_outBuffer out{raw.data.get(), raw.capacity, raw.size};
     const std::size_t rc = ZSTD_decompressStream(ctx.get(), &out, &in);
-    if (ZSTD_isError(rc)) fail(file, "corrupt spill file (" + std::string(ZSTD_getErrorName(rc)) + ")");
+    if (ZSTD_isError(rc))
+      fail(file, "corrupt spill file (" + std::string(ZSTD_getErrorName(rc)) + ")");
     const bool full = out.pos == out.size;
     raw.size = out.pos;
-    if (rc == 0) break;                                    // the frame is complete
-    if (in.pos == in.size && !full) fail(file, "truncated spill file");  // wants input that is not there
+    if (rc == 0) break;  // the frame is complete
+    if (in.pos == in.size && !full)
+      fail(file, "truncated spill file");  // wants input that is not there
     if (raw.size > raw_size) break;
   }
-  if (raw.size != raw_size || in.pos != in.size) fail(file, "corrupt spill file (its size does not match its header)");
+  if (raw.size != raw_size || in.pos != in.size)
+    fail(file, "corrupt spill file (its size does not match its header)");
   return raw;
 }
 
@@ -148,11 +155,13 @@ Bytes payload(const std::filesystem::path& file) {
   if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) fail(file, "not a cleanmap spill file");
   Bytes frame(static_cast<std::size_t>(size - sizeof magic - sizeof raw_size));
   frame.size = frame.capacity;
-  if (!f.read(reinterpret_cast<char*>(frame.data.get()), static_cast<std::streamsize>(frame.size))) {
+  if (!f.read(reinterpret_cast<char*>(frame.data.get()),
+              static_cast<std::streamsize>(frame.size))) {
     fail(file, "truncated spill file");
   }
   const auto content = ZSTD_getFrameContentSize(frame.data.get(), frame.size);
-  if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN || content != raw_size) {
+  if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN ||
+      content != raw_size) {
     fail(file, "corrupt spill file (its compressed frame does not match its header)");
   }
   return decompress(file, frame, raw_size);
@@ -192,34 +201,40 @@ std::size_t write_spill(const std::filesystem::path& file, const ScoredScan& r,
   f.write(kMagic, sizeof kMagic);
   const auto raw_size = static_cast<std::uint64_t>(w.bytes.size);
   f.write(reinterpret_cast<const char*>(&raw_size), sizeof raw_size);
-  f.write(reinterpret_cast<const char*>(frame.data.get()), static_cast<std::streamsize>(frame.size));
+  f.write(reinterpret_cast<const char*>(frame.data.get()),
+          static_cast<std::streamsize>(frame.size));
   close_checked(f, file);
   return sizeof kMagic + sizeof raw_size + frame.size;
 }
 
-std::string spill_space_problem(const std::filesystem::path& dir, std::size_t bytes, std::size_t done,
-                                std::size_t left, std::uintmax_t available) {
+std::string spill_space_problem(const std::filesystem::path& dir, std::size_t bytes,
+                                std::size_t done, std::size_t left, std::uintmax_t available) {
   if (done == 0 || left == 0) return {};
   const double per_scan = static_cast<double>(bytes) / static_cast<double>(done);
   const double needed = per_scan * static_cast<double>(left);
   if (needed <= static_cast<double>(available)) return {};
   auto size = [](double bytes) {
     char text[32];
-    if (bytes >= 1e9) std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
-    else std::snprintf(text, sizeof text, "%.1f MB", bytes / 1e6);
+    if (bytes >= 1e9)
+      std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
+    else
+      std::snprintf(text, sizeof text, "%.1f MB", bytes / 1e6);
     return std::string(text);
   };
-  const std::string line = "the offline run's spills need about " + size(needed) + " more for " + std::to_string(left) +
-                           " scans still to come (" + size(per_scan) + " a scan so far), " +
-                           size(static_cast<double>(available)) +
-                           " free: free space there, write --out to a larger disk, or run with --online";
+  const std::string line =
+      "the offline run's spills need about " + size(needed) + " more for " + std::to_string(left) +
+      " scans still to come (" + size(per_scan) + " a scan so far), " +
+      size(static_cast<double>(available)) +
+      " free: free space there, write --out to a larger disk, or run with --online";
   return dir.string() + ": " + line;
 }
 
-void check_spill_space(const std::filesystem::path& dir, std::size_t bytes, std::size_t done, std::size_t left) {
+void check_spill_space(const std::filesystem::path& dir, std::size_t bytes, std::size_t done,
+                       std::size_t left) {
   std::error_code ec;
   const auto space = std::filesystem::space(dir, ec);
-  if (ec) return;  // not known (an unusual file system): the writes still fail clearly when it fills
+  if (ec)
+    return;  // not known (an unusual file system): the writes still fail clearly when it fills
   const auto problem = spill_space_problem(dir, bytes, done, left, space.available);
   if (!problem.empty()) throw Error(problem);
 }

@@ -30,10 +30,11 @@ std::size_t write_spill(const std::filesystem::path& file, const ScoredScan& sco
 // for `done` scans so far, as much again for each of `left` scans to come, against `available`
 // bytes free. Empty when they fit (or nothing is known yet). A run that would fill the disk
 // hours later says so after its first scan, in one line naming `dir`.
-std::string spill_space_problem(const std::filesystem::path& dir, std::size_t bytes, std::size_t done,
-                                std::size_t left, std::uintmax_t available);
+std::string spill_space_problem(const std::filesystem::path& dir, std::size_t bytes,
+                                std::size_t done, std::size_t left, std::uintmax_t available);
 // The same against the space free on `dir`'s disk now: throws Error with that line.
-void check_spill_space(const std::filesystem::path& dir, std::size_t bytes, std::size_t done, std::size_t left);
+void check_spill_space(const std::filesystem::path& dir, std::size_t bytes, std::size_t done,
+                       std::size_t left);
 
 // Throws Error naming the file when it is not a complete spill.
 SpilledScan read_spill(const std::filesystem::path& file);

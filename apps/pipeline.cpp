@@ -96,7 +96,8 @@ void first_pass(PipelineRun& run, Progress& progress) {
                 for (auto& [r, labels] : item->scored) {
                   if (run.offline) {
                     run.feed_back(r);  // in pass 1, while odometry still runs: pass 2 comes after the last pose
-                    run.spill_bytes += write_spill(run.spill_dir / (scan_name(r.index) + ".spill"), r, labels);
+                    run.spill_bytes +=
+                        write_spill(run.spill_dir / (scan_name(r.index) + ".spill"), r, labels);
                     const std::size_t spilled = scans_done + 1;
                     check_spill_space(run.spill_dir, run.spill_bytes, spilled,
                                       run.seq.size() > spilled ? run.seq.size() - spilled : 0);

@@ -1,10 +1,11 @@
 #include "apps/preset_yaml.hpp"
-#include "io/close_checked.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <charconv>
 #include <fstream>
+
+#include "io/close_checked.hpp"
 
 namespace cleanmap::app {
 namespace {

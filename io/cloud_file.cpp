@@ -8,7 +8,6 @@
 #include <fstream>
 #include <sstream>
 
-
 #include "io/close_checked.hpp"
 #include "io/error.hpp"
 #include "io/pcd_file.hpp"
@@ -54,18 +53,21 @@ void write_empty_cloud(const std::filesystem::path& file, const std::vector<std:
 // the copy into the mapping killed the run with SIGBUS (PCL 1.13, a 30 MB tmpfs as --out),
 // where a stream's write fails and says so. PCL still makes the header and the compressed body
 // (in memory: its stream writer, given a file stream that failed, threw std::bad_cast).
-void write_pcd(const std::filesystem::path& file, const pcl::PCLPointCloud2& cloud, const Eigen::Vector4f& origin,
-               const Eigen::Quaternionf& orientation, bool compressed) {
+void write_pcd(const std::filesystem::path& file, const pcl::PCLPointCloud2& cloud,
+               const Eigen::Vector4f& origin, const Eigen::Quaternionf& orientation,
+               bool compressed) {
   pcl::PCDWriter writer;
   std::ostringstream packed;
-  if (compressed && writer.writeBinaryCompressed(packed, cloud, origin, orientation) < 0) fail(file, "write failed");
+  if (compressed && writer.writeBinaryCompressed(packed, cloud, origin, orientation) < 0)
+    fail(file, "write failed");
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   if (!out) fail(file, "cannot create file");
   if (compressed) {
     out << packed.str();
   } else {
     out << writer.generateHeaderBinary(cloud, origin, orientation) << "DATA binary\n";
-    out.write(reinterpret_cast<const char*>(cloud.data.data()), static_cast<std::streamsize>(cloud.data.size()));
+    out.write(reinterpret_cast<const char*>(cloud.data.data()),
+              static_cast<std::streamsize>(cloud.data.size()));
   }
   close_checked(out, file);
 }

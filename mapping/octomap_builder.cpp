@@ -12,9 +12,9 @@
 #include <limits>
 #include <mutex>
 
+#include "geometry/voxel_downsample.hpp"
 #include "io/close_checked.hpp"
 #include "io/error.hpp"
-#include "geometry/voxel_downsample.hpp"
 #include "mapping/carve_ray.hpp"
 #include "mapping/cell_set.hpp"
 
@@ -186,7 +186,8 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   occupied.for_each_in_tree_order([&](const CellSet::Key& k) { tree.update(tree_key(k), true); });
 }
 
-void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor) {
+void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
+                         const SweepOrigin& sensor) {
   if (!pinned_) pinned_ = std::make_unique<CellSet>();
   add_hit_cells(points, times, sensor, *pinned_);
 }

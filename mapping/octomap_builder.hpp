@@ -70,8 +70,8 @@ class OctoMapBuilder {
   std::unique_ptr<CellSet> pinned_;
   // The cells of `points` within max_range of where the sensor was at each one's time, into
   // `cells`: what insert marks occupied and pin keeps.
-  void add_hit_cells(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor,
-                     CellSet& cells) const;
+  void add_hit_cells(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
+                     const SweepOrigin& sensor, CellSet& cells) const;
 };
 
 }  // namespace cleanmap

@@ -95,8 +95,8 @@ TEST(OfflineSpill, AScanSpillsInUnderHalfItsBytes) {
   r.scan.time.resize(n);
   for (int i = 0; i < n; ++i) {
     const double a = 0.01 * i;
-    r.scan.points.col(i) << static_cast<float>(10 + 20 * std::cos(a)), static_cast<float>(-5 + 20 * std::sin(a)),
-        static_cast<float>(-1.7 + 0.001 * (i % 64));
+    r.scan.points.col(i) << static_cast<float>(10 + 20 * std::cos(a)),
+        static_cast<float>(-5 + 20 * std::sin(a)), static_cast<float>(-1.7 + 0.001 * (i % 64));
     r.scan.intensity[i] = static_cast<float>(i % 100);
     r.scan.time[i] = 0.1f * static_cast<float>(i) / n;
     r.scan.input_index.push_back(i);
@@ -122,9 +122,9 @@ TEST(OfflineSpill, ARunWhoseSpillsWillNotFitSaysSoAfterItsFirstScans) {
   EXPECT_NE(line.find("10.0 GB more for 100 scans"), std::string::npos) << line;
   EXPECT_NE(line.find("100.0 MB a scan"), std::string::npos) << line;
   EXPECT_NE(line.find("--online"), std::string::npos) << line;
-  EXPECT_EQ(line.find('\n'), std::string::npos);  // one line
-  EXPECT_EQ(app::spill_space_problem(dir, gb, 0, 100, 0), "");   // nothing spilled yet
-  EXPECT_EQ(app::spill_space_problem(dir, gb, 10, 0, 0), "");    // the last scan is in
+  EXPECT_EQ(line.find('\n'), std::string::npos);                // one line
+  EXPECT_EQ(app::spill_space_problem(dir, gb, 0, 100, 0), "");  // nothing spilled yet
+  EXPECT_EQ(app::spill_space_problem(dir, gb, 10, 0, 0), "");   // the last scan is in
   // This disk has room for a few kilobytes more: no error.
   test::TempDir tmp;
   EXPECT_NO_THROW(app::check_spill_space(tmp.path, 1000, 1, 1));

@@ -58,11 +58,15 @@ TEST(PerScanFiles, AFullDiskFailsEveryWriteNamingTheFile) {
   for (const char* name : {"a.label", "a.bin", "kitti.txt", "tum.txt"}) {
     std::filesystem::create_symlink("/dev/full", dir / name);
   }
-  test::expect_error([&] { write_labels(dir / "a.label", std::vector<std::uint32_t>(100, kLabelStatic)); }, {"a.label", "disk full"});
-  test::expect_error([&] { write_scores(dir / "a.bin", std::vector<float>(100, 0.5f)); }, {"a.bin", "disk full"});
+  test::expect_error(
+      [&] { write_labels(dir / "a.label", std::vector<std::uint32_t>(100, kLabelStatic)); },
+      {"a.label", "disk full"});
+  test::expect_error([&] { write_scores(dir / "a.bin", std::vector<float>(100, 0.5f)); },
+                     {"a.bin", "disk full"});
   test::expect_error([&] { write_kitti_poses(dir / "kitti.txt", {Eigen::Isometry3d::Identity()}); },
                      {"kitti.txt", "disk full"});
-  test::expect_error([&] { write_tum_poses(dir / "tum.txt", {StampedPose{}}); }, {"tum.txt", "disk full"});
+  test::expect_error([&] { write_tum_poses(dir / "tum.txt", {StampedPose{}}); },
+                     {"tum.txt", "disk full"});
 }
 
 }  // namespace

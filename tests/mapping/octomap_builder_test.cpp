@@ -189,7 +189,8 @@ TEST(OctoMapBuilder, APinnedCellIsOccupiedAtTheEndWhateverRaysDidToIt) {
   const auto& tree = map.tree();
   map.insert(wall(10), Eigen::Vector3d::Zero());
   map.pin(wall(10), Eigen::VectorXf(), SweepOrigin{});
-  map.pin(wall(40), Eigen::VectorXf(), SweepOrigin{});  // beyond max_range (30 m): as insert, not a hit
+  map.pin(wall(40), Eigen::VectorXf(),
+          SweepOrigin{});  // beyond max_range (30 m): as insert, not a hit
   // A wall at 20 m seen through the first one's place six times: its cells go free.
   for (int k = 0; k < 6; ++k) map.insert(wall(20), Eigen::Vector3d::Zero());
   ASSERT_FALSE(tree.isNodeOccupied(tree.search(10.0, 0.0, 0.0)));
@@ -227,7 +228,8 @@ TEST(OctoMapBuilder, APointIsPinnedWithinRangeOfWhereTheSensorWasAsItIsInserted)
   ASSERT_NE(inserted.tree().search(30.5, 0.0, 0.0), nullptr);
   EXPECT_TRUE(inserted.tree().isNodeOccupied(inserted.tree().search(30.5, 0.0, 0.0)));
   EXPECT_EQ(pinned.occupy_pinned(), 1u);
-  EXPECT_FLOAT_EQ(pinned.tree().search(30.5, 0.0, 0.0)->getLogOdds(), octomap::logodds(config.prob_hit));
+  EXPECT_FLOAT_EQ(pinned.tree().search(30.5, 0.0, 0.0)->getLogOdds(),
+                  octomap::logodds(config.prob_hit));
   EXPECT_EQ(from_stamp.occupy_pinned(), 0u);
 }
 
@@ -238,13 +240,16 @@ TEST(OctoMapBuilder, AFullDiskFailsEveryMapWriteNamingTheFile) {
   test::TempDir dir;
   OctoMapBuilder map(MapConfig{});
   for (int k = 0; k < 3; ++k) map.insert(wall(10), Eigen::Vector3d::Zero());
-  for (const char* name : {"map.bt", "map.ot", "grid.pgm"}) std::filesystem::create_symlink("/dev/full", dir / name);
+  for (const char* name : {"map.bt", "map.ot", "grid.pgm"})
+    std::filesystem::create_symlink("/dev/full", dir / name);
   test::expect_error([&] { map.write_binary(dir / "map.bt"); }, {"map.bt", "disk full"});
   test::expect_error([&] { map.write_full(dir / "map.ot"); }, {"map.ot", "disk full"});
-  test::expect_error([&] { map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0); }, {"grid.pgm", "disk full"});
+  test::expect_error([&] { map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0); },
+                     {"grid.pgm", "disk full"});
   std::filesystem::remove(dir / "grid.pgm");
   std::filesystem::create_symlink("/dev/full", dir / "grid.yaml");
-  test::expect_error([&] { map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0); }, {"grid.yaml", "disk full"});
+  test::expect_error([&] { map.write_occupancy_grid(dir / "grid.pgm", 0.3, 2.0); },
+                     {"grid.yaml", "disk full"});
 }
 
 TEST(FreeSpaceVote, ClusterInFreeSpaceIsDynamicAsAWhole) {
