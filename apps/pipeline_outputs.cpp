@@ -46,7 +46,7 @@ void PipelineRun::map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sens
     };
     octo->insert(scan.points(Eigen::all, keep), times_of(keep), from);
     if (visibility) {
-      const auto solid = never_gone_through(*visibility, scan.points, keep);
+      const auto solid = seen_standing(*visibility, scan.points, keep);
       octo->pin(scan.points(Eigen::all, solid), times_of(solid), from);
     }
   }

@@ -56,7 +56,7 @@ class OctoMapBuilder {
 
   // Cells to be occupied at the end whatever rays do to them later (`points`, world frame,
   // within max_range of where the sensor was at each point's time, exactly as insert): static
-  // points no ray of the whole log went through (never_gone_through, pass 2). occupy_pinned
+  // points the whole log saw standing at least as often as gone through (seen_standing, pass 2). occupy_pinned
   // raises each to at least one hit's log-odds (prob_hit), and returns how many it raised.
   void pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor);
   std::size_t occupy_pinned();

@@ -83,12 +83,12 @@ WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::
   return v;
 }
 
-std::vector<std::int32_t> never_gone_through(const VisibilityMap& log,
-                                             const Eigen::Matrix3Xf& points,
-                                             const std::vector<std::int32_t>& among) {
+std::vector<std::int32_t> seen_standing(const VisibilityMap& log, const Eigen::Matrix3Xf& points,
+                                        const std::vector<std::int32_t>& among) {
   std::vector<std::int32_t> out;
   for (const auto i : among) {
-    if (log.counts(points.col(i)).through == 0) out.push_back(i);
+    const auto c = log.counts(points.col(i));
+    if (c.through <= c.hits) out.push_back(i);
   }
   return out;
 }

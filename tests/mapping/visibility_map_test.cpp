@@ -81,15 +81,27 @@ TEST(VisibilityMap, CountsHitsAndCrossingsOncePerScan) {
   EXPECT_EQ(map.cells(), 2u);
 }
 
-TEST(WholeLogVote, TheCleanMapKeepsWhatNoRayOfTheLogWentThrough) {
+TEST(WholeLogVote, TheCleanMapKeepsWhatTheLogSawStandingAtLeastAsOftenAsGoneThrough) {
   const VisibilityMap map =
       mover_then_wall(VisibilityConfig{}.margin);  // the wall's rays go through the mover
   EXPECT_EQ(map.counts({5.05f, 0.05f, 0.05f}).through, 3);
   Eigen::Matrix3Xf points(3, 3);
   points << 5.05f, 9.05f, 9.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f;
-  EXPECT_EQ(never_gone_through(map, points, {0, 1}), (std::vector<std::int32_t>{1}));
-  EXPECT_EQ(never_gone_through(map, points, {2, 0}),
-            (std::vector<std::int32_t>{2}));  // only among `among`
+  EXPECT_EQ(seen_standing(map, points, {0, 1}), (std::vector<std::int32_t>{1}));
+  EXPECT_EQ(seen_standing(map, points, {2, 0}), (std::vector<std::int32_t>{2}));  // only among `among`
+  // Something at 5.05 hit in h scans alone, and the wall behind it in 3 scans alone: gone
+  // through 3 times. Standing when h >= 3.
+  for (int h : {2, 3}) {
+    VisibilityConfig c;
+    c.resolution = 0.1;
+    VisibilityMap log(c);
+    for (int s = 0; s < h; ++s) log.add_hits(one(5.05f, 0.05f, 0.05f));
+    for (int s = 0; s < 3; ++s) log.add_hits(one(9.05f, 0.05f, 0.05f));
+    for (int s = 0; s < h; ++s) log.add_rays(one(5.05f, 0.05f, 0.05f), kOrigin);
+    for (int s = 0; s < 3; ++s) log.add_rays(one(9.05f, 0.05f, 0.05f), kOrigin);
+    ASSERT_EQ(log.counts({5.05f, 0.05f, 0.05f}).through, 3) << h;
+    EXPECT_EQ(seen_standing(log, one(5.05f, 0.05f, 0.05f), {0}).size(), h == 3 ? 1u : 0u) << h;
+  }
 }
 
 TEST(VisibilityMap, MovedWhenTheLogSawThroughItOftenEnoughAsAnOctoMapWeighs) {
