@@ -10,6 +10,7 @@
 #include "apps/progress.hpp"
 #include "apps/run_inputs.hpp"
 #include "apps/settings.hpp"
+#include "io/close_checked.hpp"
 #include "io/cloud_file.hpp"
 #include "odometry/lidar_odometry.hpp"
 
@@ -80,6 +81,7 @@ void run_odometry(const CLI::App& cmd, const OdometryArgs& args) {
     progress.update(i + 1);
   }
   progress.finish();
+  close_checked(log, args.out / "odometry_log.csv");
   if (empty_scans.size() == seq.size()) {
     fail(args.input, "no valid point in any of its " + std::to_string(seq.size()) +
                          " scans (empty, or only NaN / infinite coordinates): nothing to register");

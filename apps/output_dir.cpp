@@ -26,7 +26,7 @@ void write_summary(const std::filesystem::path& out, nlohmann::json summary, boo
     if (!f) fail(tmp, "cannot create file");
     // Replace, not throw, on invalid UTF-8: a message may quote a file's bytes.
     f << summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
-    if (!f) fail(tmp, "write failed");
+    close_checked(f, tmp);  // before the rename: a summary cut short never replaces the last one
   }
   std::filesystem::rename(tmp, out / "summary.json");
 }

@@ -72,7 +72,8 @@ struct PipelineRun {
   const PlatformMask mask;
 
   std::unique_ptr<LidarOdometry> odom;
-  // Map cells of static points never gone through, raised to occupied at the end (offline).
+  // Map cells of static points the log saw standing (seen_standing), raised to occupied at the
+  // end (offline).
   std::size_t cells_pinned = 0;
   // Bytes of the scans spilled between the passes (offline): the disk the run held at its peak.
   std::size_t spill_bytes = 0;

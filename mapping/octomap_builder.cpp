@@ -136,18 +136,20 @@ struct RayOrigins {
   }
 };
 
-}  // namespace
-
-void OctoMapBuilder::add_hit_cells(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
-                                   const SweepOrigin& sensor, CellSet& cells) const {
-  const RayOrigins origin_of(times, sensor, points.cols());
-  const double max_sq = config_.max_range * config_.max_range;
+// The cells of `points` within `max_range` of where the sensor was when it fired each one:
+// what insert marks occupied and pin keeps.
+void add_hit_cells(const octomap::OcTree& tree, double max_range, const Eigen::Matrix3Xf& points,
+                   const RayOrigins& origin_of, CellSet& cells) {
+  const double max_sq = max_range * max_range;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if ((points.col(i).cast<double>() - origin_of(i)).squaredNorm() > max_sq) continue;
     octomap::OcTreeKey key;
-    if (tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) cells.insert(key_of(key));
+    if (tree.coordToKeyChecked(points(0, i), points(1, i), points(2, i), key))
+      cells.insert(key_of(key));
   }
 }
+
+}  // namespace
 
 void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::Vector3d& origin) {
   insert(points, Eigen::VectorXf(), SweepOrigin{origin});
@@ -159,7 +161,7 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   // Occupied cells from every point (one update per cell); free space carved by rays to a
   // sparser subsample only: rays are the cost, and neighbouring rays cross the same cells.
   CellSet occupied;
-  add_hit_cells(points, times, sensor, occupied);
+  add_hit_cells(*tree_, config_.max_range, points, origin_of, occupied);
   const double voxel = config_.insert_voxel > 0 ? config_.insert_voxel : config_.resolution;
   auto rays = voxel_downsample(points, voxel);
   // In firing order: carve_ray stops where earlier rays carved on, which holds for rays from
@@ -189,7 +191,8 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
 void OctoMapBuilder::pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
                          const SweepOrigin& sensor) {
   if (!pinned_) pinned_ = std::make_unique<CellSet>();
-  add_hit_cells(points, times, sensor, *pinned_);
+  add_hit_cells(*tree_, config_.max_range, points, RayOrigins(times, sensor, points.cols()),
+                *pinned_);
 }
 
 std::size_t OctoMapBuilder::occupy_pinned() {

@@ -56,8 +56,9 @@ class OctoMapBuilder {
 
   // Cells to be occupied at the end whatever rays do to them later (`points`, world frame,
   // within max_range of where the sensor was at each point's time, exactly as insert): static
-  // points the whole log saw standing at least as often as gone through (seen_standing, pass 2). occupy_pinned
-  // raises each to at least one hit's log-odds (prob_hit), and returns how many it raised.
+  // points the whole log saw standing at least as often as gone through (seen_standing, pass 2).
+  // occupy_pinned raises each to at least one hit's log-odds (prob_hit), and returns how many it
+  // raised.
   void pin(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times, const SweepOrigin& sensor);
   std::size_t occupy_pinned();
 
@@ -68,10 +69,6 @@ class OctoMapBuilder {
   MapConfig config_;
   std::unique_ptr<octomap::OcTree> tree_;
   std::unique_ptr<CellSet> pinned_;
-  // The cells of `points` within max_range of where the sensor was at each one's time, into
-  // `cells`: what insert marks occupied and pin keeps.
-  void add_hit_cells(const Eigen::Matrix3Xf& points, const Eigen::VectorXf& times,
-                     const SweepOrigin& sensor, CellSet& cells) const;
 };
 
 }  // namespace cleanmap

@@ -56,7 +56,7 @@ WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::
 // 3.94 % occupied). Pinning only cells never gone through, first, then these (bench/quality.sh,
 // map table, static truth in occupied cells / dynamic points alone in occupied cells, %):
 // SemanticKITTI 01 78.90 / 2.83 -> 79.88 / 2.90, 04 83.47 / 1.56 -> 84.17 / 1.61, 07 96.09 /
-// 0 -> 96.23 / 0, Pandar64 points/track 88.76 / 0.52 -> 89.19 / 0.66: 8-23 k static points
+// 0 -> 96.23 / 0, Pandar64 points/track 88.76 / 0.52 -> 89.19 / 0.66: 8-24 k static points
 // kept for 2-1000 points of trails. Pinning from every scan instead of every scan the map
 // inserts (insert_every) kept three times the trails (SemanticKITTI 04 1.56 -> 4.54 %).
 std::vector<std::int32_t> seen_standing(const VisibilityMap& log, const Eigen::Matrix3Xf& points,

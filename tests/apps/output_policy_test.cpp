@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "apps/output_dir.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -148,6 +149,23 @@ TEST(OutputPolicy, CtrlCStopsAtTheNextScanAndSaysSoInTheSummary) {
   const auto s = summary(out);
   EXPECT_FALSE(s["complete"].get<bool>());
   EXPECT_NE(s.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.dump();
+}
+
+TEST(OutputPolicy, ASummaryCutShortByAFullDiskNeverReplacesTheLastOne) {
+  // summary.json is written to a .tmp and renamed; a small summary stays in the stream's buffer
+  // until it is closed, so the write must fail there, before the rename.
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  test::TempDir dir;
+  app::write_summary(dir.path, nlohmann::json{{"command", "run"}}, false, "the first");
+  fs::create_symlink("/dev/full", dir / "summary.json.tmp");
+  test::expect_error(
+      [&] {
+        app::write_summary(dir.path, nlohmann::json{{"command", "run"}}, true, "");
+      },
+      {"summary.json.tmp", "disk full"});
+  const auto kept = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+  EXPECT_FALSE(kept["complete"].get<bool>());
+  EXPECT_EQ(kept["error"], "the first");
 }
 
 }  // namespace

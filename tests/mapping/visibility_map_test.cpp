@@ -88,7 +88,8 @@ TEST(WholeLogVote, TheCleanMapKeepsWhatTheLogSawStandingAtLeastAsOftenAsGoneThro
   Eigen::Matrix3Xf points(3, 3);
   points << 5.05f, 9.05f, 9.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f, 0.05f;
   EXPECT_EQ(seen_standing(map, points, {0, 1}), (std::vector<std::int32_t>{1}));
-  EXPECT_EQ(seen_standing(map, points, {2, 0}), (std::vector<std::int32_t>{2}));  // only among `among`
+  EXPECT_EQ(seen_standing(map, points, {2, 0}),
+            (std::vector<std::int32_t>{2}));  // only among `among`
   // Something at 5.05 hit in h scans alone, and the wall behind it in 3 scans alone: gone
   // through 3 times. Standing when h >= 3.
   for (int h : {2, 3}) {
