@@ -1,5 +1,6 @@
 // Ground that real scans do not fool: returns from below the road, and a floor that stays the
 // same across the scans that score each other.
+#include <algorithm>
 #include <functional>
 #include <gtest/gtest.h>
 #include <vector>
@@ -41,6 +42,29 @@ TEST(GroundSegmentation, ReturnsFromBelowTheRoadDoNotSinkTheFloor) {
   for (float dy : {0.0f, 0.1f, 0.2f}) c.pts.emplace_back(2.3f, -1.5f + dy, -3.7f);
   const auto g = segment_ground(c.matrix(), GroundConfig{});
   EXPECT_EQ(ground_share(g, 0, surface), 1.0);
+}
+
+TEST(GroundSegmentation, AReturnAloneInItsCellFarUnderTheRoadDoesNotLiftTheRoadAroundIt) {
+  // As on KITTI 00: one return 9 m under the road in a cell the road's own returns miss (the
+  // rings pass beside it). Its cell's floor was the lowest admissible level, 0.85 m under the
+  // road (the block's median less a walkable slope across the block and the band), and that
+  // floor was every neighbouring cell's too: the road around it lay 0.85 m above the floor.
+  Cloud c;
+  c.grid(-10, 10, -10, 10, [](double, double) { return 0.0; });
+  const auto in_hole = [](const Eigen::Vector3f& p) { return p.x() >= 2 && p.x() < 3 && p.y() >= -2 && p.y() < -1; };
+  c.pts.erase(std::remove_if(c.pts.begin(), c.pts.end(), in_hole), c.pts.end());
+  const std::size_t surface = c.pts.size();
+  c.pts.emplace_back(2.5f, -1.5f, -9.0f);
+  const auto g = segment_ground(c.matrix(), GroundConfig{});
+  EXPECT_EQ(ground_share(g, 0, surface), 1.0);
+  EXPECT_EQ(g[surface], 1);  // the return itself is under the floor: not an object
+  // The same with a memory: the next scan, road only, is not lowered by the remembered cell.
+  GroundMemory memory;
+  memory.scans = 3;
+  segment_ground(c.matrix(), GroundConfig{}, &memory);
+  Cloud road;
+  road.grid(-10, 10, -10, 10, [](double, double) { return 0.0; });
+  EXPECT_EQ(ground_share(segment_ground(road.matrix(), GroundConfig{}, &memory), 0, road.pts.size()), 1.0);
 }
 
 TEST(GroundSegmentation, AFloorDeeperThanASlopeExplainsIsStillGroundWhereItIsTheWholeBlock) {
