@@ -101,8 +101,11 @@ OfflinePassStats run_offline_pass(
                 ScoredScan& r = s->scored;
                 const auto verdict = judge_with_log(
                     r.scan.points, r.dynamic, visibility,
-                    [&](const Eigen::Matrix3Xf& sub) { return segment_ground(sub, cfg.scorer.ground); },
-                    cfg.mapping.free_space_objects, r.scans_before == 0 || r.scans_after == 0, cfg.mapping.free_space_voxel);
+                    [&](const Eigen::Matrix3Xf& sub) {
+                      return segment_ground(sub, cfg.scorer.ground);
+                    },
+                    cfg.mapping.free_space_objects, r.scans_before == 0 || r.scans_after == 0,
+                    cfg.mapping.free_space_voxel, r.on_moving_track);
                 std::lock_guard<std::mutex> lock(judged);
                 stats.added += verdict.added;
                 stats.vetoed += verdict.vetoed;

@@ -16,7 +16,8 @@ namespace cleanmap::app {
 namespace {
 
 // 3: the payload compressed (zstd), each array stored as its elements' byte planes.
-constexpr char kMagic[8] = {'C', 'M', 'S', 'P', 'I', 'L', 'L', '3'};
+// 4: with ScoredScan::on_moving_track.
+constexpr char kMagic[8] = {'C', 'M', 'S', 'P', 'I', 'L', 'L', '4'};
 // A fast level: an offline run costs 1.88x the online one's CPU on the synthetic stream (1.38x
 // on the Pandar64 street), against a bound of 2x. On the
 // synthetic stream (bench/compare_cpu.sh against the build without compression) level 1 cost
@@ -186,6 +187,7 @@ std::size_t write_spill(const std::filesystem::path& file, const ScoredScan& r,
   w.put_array(s.input_index.data(), s.input_index.size());
   w.put_array(r.score.data(), r.score.size());
   w.put_array(r.dynamic.data(), r.dynamic.size());
+  w.put_array(r.on_moving_track.data(), r.on_moving_track.size());
   w.put_array(labels.data(), labels.size());
   for (const auto v : {r.downsampled, r.scored_downsampled, r.dynamic_before_completion, r.dynamic_downsampled,
                        r.tracked_points}) {
@@ -274,6 +276,8 @@ SpilledScan read_spill(const std::filesystem::path& file) {
   r.dynamic.resize(sized(in.count(1), "decisions"));
   in.get_array(r.dynamic.data(), r.dynamic.size());
   if (r.score.size() != n || r.dynamic.size() != n) fail(file, "scores or decisions missing");
+  r.on_moving_track.resize(sized(in.count(1), "moving tracks"));
+  in.get_array(r.on_moving_track.data(), r.on_moving_track.size());
   out.labels.resize(sized(in.count(sizeof(std::uint32_t)), "labels"));
   in.get_array(out.labels.data(), out.labels.size());
   for (std::size_t* v : {&r.downsampled, &r.scored_downsampled, &r.dynamic_before_completion, &r.dynamic_downsampled,

@@ -13,7 +13,8 @@ namespace cleanmap::app {
 // pass judges it with the whole log's visibility: the world-frame points (and their input
 // order), the scorer's and tracker's decisions, and the ground-truth labels when the log has
 // them. Per point 12 bytes x y z, 4 intensity, 4 time (when the log has them), 4 score, 1
-// decision, 4 input index, 4 label (when the log has labels): 25-33 bytes. Stored as byte
+// decision, 4 input index, 4 label (when the log has labels): 25-33 bytes (1 more at the log's
+// two ends: on_moving_track). Stored as byte
 // planes through a fast zstd level, a spill takes 15.7 bytes a point on the Pandar64 street
 // (100 MB for its 30 scans, 184 MB before), 14.3 on SemanticKITTI 04 and 12.8 on the synthetic
 // street (summary.json: spill_bytes). Deleted as pass 2 reads them.

@@ -63,7 +63,10 @@ void ObjectTracker::chain(Held& now) {
   }
   for (std::size_t j = 0; j < objects.size(); ++j) {
     if (!continued[j]) now.track[j] = next_track_++;
-    if (objects[j].seen_moving) seen_moving_[now.track[j]].push_back({now.scan.index, objects[j].centroid});
+    if (objects[j].seen_moving) {
+      const bool two_sided = now.scan.scans_before > 0 && now.scan.scans_after > 0;
+      seen_moving_[now.track[j]].push_back({now.scan.index, objects[j].centroid, two_sided});
+    }
   }
 }
 
@@ -71,14 +74,15 @@ void ObjectTracker::chain(Held& now) {
 // cluster radius between them. A cluster's centroid jitters by up to its linking distance as
 // points join and leave (static vegetation seen moving on SemanticKITTI 01: 0.35 m at any gap;
 // a walker on 07: 0.15 m per scan, growing with the gap).
-bool ObjectTracker::moving_near(std::size_t track, std::size_t scan) const {
+bool ObjectTracker::moving_near(std::size_t track, std::size_t scan, bool two_sided) const {
   const auto it = seen_moving_.find(track);
   if (it == seen_moving_.end()) return false;
   const auto& s = it->second;
   const auto far = [&](std::size_t a, std::size_t b) { return (a > b ? a - b : b - a) > window_; };
   for (std::size_t a = 0; a < s.size(); ++a) {
-    if (far(s[a].scan, scan)) continue;
+    if (far(s[a].scan, scan) || (two_sided && !s[a].two_sided)) continue;
     for (std::size_t b = 0; b < s.size(); ++b) {
+      if (two_sided && !s[b].two_sided) continue;
       if (!far(s[a].scan, s[b].scan) && (s[a].centroid - s[b].centroid).norm() >= margin_) return true;
     }
   }
@@ -97,6 +101,20 @@ ScoredScan ObjectTracker::release(Held held) {
     if (of[k] < 0 || s.dynamic[k] || !moving[static_cast<std::size_t>(of[k])]) continue;
     s.dynamic[k] = 1;
     ++s.tracked_points;
+  }
+  if (s.scans_before == 0 || s.scans_after == 0) {
+    std::vector<std::uint8_t> confirmed(objects.size(), 0);
+    bool any = false;
+    for (std::size_t u = 0; u < objects.size(); ++u) {
+      confirmed[u] = moving_near(held.track[u], s.index, true) ? 1 : 0;
+      any |= confirmed[u] != 0;
+    }
+    if (any) {
+      s.on_moving_track.assign(of.size(), 0);
+      for (std::size_t k = 0; k < of.size(); ++k) {
+        if (of[k] >= 0) s.on_moving_track[k] = confirmed[static_cast<std::size_t>(of[k])];
+      }
+    }
   }
   // Sightings more than two windows back can neither confirm nor label a held scan any more.
   for (auto it = seen_moving_.begin(); it != seen_moving_.end();) {

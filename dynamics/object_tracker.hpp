@@ -19,6 +19,12 @@ namespace cleanmap {
 // spread to scans 7 and 8, IoU 0.44 -> 0.40).
 // Takes the scorer's scans in order and returns them `window` scans later (all at finish());
 // scans without objects (tracking off in the scorer) pass through unchanged.
+// At the log's first and last scan it also marks the points of objects whose track is
+// confirmed by sightings from scans with both sides of the window
+// (ScoredScan::on_moving_track): there the normals see one side of time only, and a car
+// driving alongside looks to the whole log's visibility like something standing (its cells
+// are hit by its own body scan after scan); its track, seen moving where the normals had both
+// sides, says otherwise.
 class ObjectTracker {
  public:
   ObjectTracker(const TrackRule& rule, int window, double margin);
@@ -34,9 +40,11 @@ class ObjectTracker {
   struct Sighting {
     std::size_t scan = 0;  // ScoredScan::index
     Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+    bool two_sided = false;  // the scan was scored with both sides of the window
   };
   void chain(Held& now);
-  bool moving_near(std::size_t track, std::size_t scan) const;
+  // `two_sided`: only sightings from scans scored with both sides of the window confirm.
+  bool moving_near(std::size_t track, std::size_t scan, bool two_sided = false) const;
   ScoredScan release(Held held);
 
   TrackRule rule_;

@@ -26,6 +26,10 @@ struct ScoredScan {
   double seconds = 0.0;               // time spent scoring and upsampling this scan
   ScanObjects objects;                // for the ObjectTracker (empty when tracking is off)
   std::size_t tracked_points = 0;     // full points the tracker made dynamic
+  // At the log's ends only (scans_before or scans_after 0; empty elsewhere and without the
+  // tracker): 1 per full point on an object whose track the tracker saw moving from scans with
+  // both sides of the window (ObjectTracker), which an offline run's log-end veto then keeps.
+  std::vector<std::uint8_t> on_moving_track;
 };
 
 // Streaming spatiotemporal-normal scorer (Falque, Le Gentil, Sukkar, ACRA 2023) over a sliding

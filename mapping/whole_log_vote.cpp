@@ -28,7 +28,8 @@ bool gone_through_too_rarely(std::size_t through, std::size_t hits) {
 // radius of each, and growing its clusters took half of an offline run's CPU on the Pandar64
 // street. Counts stay per point.
 std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
-                             const VisibilityMap& log, float radius, bool log_end, double voxel) {
+                             const VisibilityMap& log, float radius, bool log_end, double voxel,
+                             const std::vector<std::uint8_t>& on_moving_track) {
   std::vector<VisibilityMap::Counts> counts(dynamic.size());
   // Inside the log only clusters with a point seen through too rarely can be vetoed: grown from
   // those alone (most scans have a few).
@@ -42,24 +43,33 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
   }
   if (!any) return 0;
   const auto id = clusters_on_voxels(points, dynamic, seed, radius, voxel);
-  std::vector<std::size_t> hits, crossed;
+  std::vector<std::size_t> hits, crossed, through;
+  std::vector<std::uint8_t> tracked;  // holds a point of a track seen moving inside the log
+  const bool ends_tracked = log_end && on_moving_track.size() == dynamic.size();
   for (std::size_t i = 0; i < dynamic.size(); ++i) {
     const auto c = id[i];
     if (c < 0) continue;
     if (static_cast<std::size_t>(c) >= hits.size()) {
       hits.resize(static_cast<std::size_t>(c) + 1, 0);
       crossed.resize(static_cast<std::size_t>(c) + 1, 0);
+      through.resize(static_cast<std::size_t>(c) + 1, 0);
+      tracked.resize(static_cast<std::size_t>(c) + 1, 0);
     }
+    if (ends_tracked && on_moving_track[i]) tracked[static_cast<std::size_t>(c)] = 1;
     hits[static_cast<std::size_t>(c)] += counts[i].hits;
-    // Inside the log only rays through count.
-    crossed[static_cast<std::size_t>(c)] += log_end ? counts[i].crossed : counts[i].through;
+    crossed[static_cast<std::size_t>(c)] += counts[i].crossed;
+    through[static_cast<std::size_t>(c)] += counts[i].through;
   }
   std::size_t vetoed = 0;
   for (std::size_t i = 0; i < dynamic.size(); ++i) {
     const auto c = id[i];
     if (c < 0) continue;
-    const auto h = hits[static_cast<std::size_t>(c)], x = crossed[static_cast<std::size_t>(c)];
-    if (log_end ? x < h : gone_through_too_rarely(x, h)) {
+    const auto k = static_cast<std::size_t>(c);
+    // At the log's ends fewer crossings than hits (crossed: within the margin of the hits), or
+    // for an object on a track seen moving inside the log, the rule inside it; inside the log
+    // only rays through count.
+    const bool ends_rule = log_end && !tracked[k];
+    if (ends_rule ? crossed[k] < hits[k] : gone_through_too_rarely(through[k], hits[k])) {
       dynamic[i] = 0;
       ++vetoed;
     }
@@ -70,10 +80,12 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
 }  // namespace
 
 WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
-                               const VisibilityMap& log, const GroundQuery& ground_of, const ObjectRule& rule,
-                               bool log_end, double voxel) {
+                               const VisibilityMap& log, const GroundQuery& ground_of,
+                               const ObjectRule& rule, bool log_end, double voxel,
+                               const std::vector<std::uint8_t>& on_moving_track) {
   WholeLogVerdict v;
-  v.vetoed = veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius), log_end, voxel);
+  v.vetoed = veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius), log_end, voxel,
+                              on_moving_track);
   const auto objects = free_space_objects(
       points, ground_of, [&](const Eigen::Matrix3Xf& sub) { return log.moved_through(sub); }, rule, voxel);
   for (std::size_t i = 0; i < dynamic.size(); ++i) {

@@ -40,6 +40,7 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   r.scan.input_size = 6;
   r.score = {0.1f, std::nanf(""), 0.9f};
   r.dynamic = {0, 0, 1};
+  r.on_moving_track = {0, 1, 1};
   r.scans_before = 2;
   r.scans_after = 4;
   r.tracked_points = 1;
@@ -57,6 +58,7 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   EXPECT_TRUE(back.scored.scan.pose->isApprox(*r.scan.pose));
   EXPECT_TRUE(std::isnan(back.scored.score[1]));
   EXPECT_EQ(back.scored.dynamic, r.dynamic);
+  EXPECT_EQ(back.scored.on_moving_track, r.on_moving_track);
   EXPECT_EQ(back.labels, (std::vector<std::uint32_t>{9, 9, 251}));
   EXPECT_EQ(back.scored.scans_after, 4);
   EXPECT_EQ(back.scored.tracked_points, 1u);

@@ -1,7 +1,9 @@
 // The tracker on hand-made object lists: association, confirmation and the window.
+#include "dynamics/object_tracker.hpp"
+
 #include <gtest/gtest.h>
 
-#include "dynamics/object_tracker.hpp"
+#include <array>
 
 namespace cleanmap {
 namespace {
@@ -75,6 +77,33 @@ TEST(ObjectTracker, AnObjectSeenMovingInPlaceIsNotConfirmed) {
   for (std::size_t i = 0; i < 8; ++i) scans.push_back(scan_of(i, {box(i % 2 ? 0.2f : 0.0f, 0, 1, i % 2 == 0)}));
   ObjectTracker tracker(TrackRule{}, 3, 0.6);
   for (const auto& s : run(tracker, std::move(scans))) EXPECT_EQ(s.tracked_points, 0u) << "scan " << s.index;
+}
+
+TEST(ObjectTracker, AtTheLogsEndsItMarksTracksSeenMovingWhereTheWindowHadBothSides) {
+  // Six scans; the first and the last were scored with one side of the window. A car drives
+  // 1 m a scan, seen moving in every scan. A wall comes into view at the end: seen "moving" in
+  // scans 4 and 5 as more of it appears (its centroid shifts 0.8 m), which only the last scan,
+  // scored with the past alone, can confirm with. A far static blob is seen moving in scans
+  // 1-4, its centroid jittering 0.75 m: a track as confirmed as the car's (the whole log's
+  // visibility tells them apart: WholeLogVote.AtALogEnd*).
+  const std::array<float, 6> blob_x{0.0f, 0.0f, 0.75f, 0.0f, 0.1f, 0.1f};
+  std::vector<ScoredScan> scans;
+  for (std::size_t i = 0; i < 6; ++i) {
+    scans.push_back(scan_of(
+        i, {box(static_cast<float>(i), 0, 2, true), box(i == 5 ? 10.8f : 10.0f, 8, 3, i >= 4),
+            box(blob_x[i], -8, 3, i >= 1 && i <= 4)}));
+    scans.back().scans_before = i > 0 ? 1 : 0;
+    scans.back().scans_after = i < 5 ? 1 : 0;
+  }
+  ObjectTracker tracker(TrackRule{}, 4, 0.6);
+  const auto out = run(tracker, std::move(scans));
+  ASSERT_EQ(out.size(), 6u);
+  EXPECT_EQ(out[0].on_moving_track, (std::vector<std::uint8_t>{1, 0, 1}));  // from scans 1-4
+  EXPECT_EQ(out[5].on_moving_track, (std::vector<std::uint8_t>{1, 0, 1}));
+  for (std::size_t i = 1; i < 5; ++i) EXPECT_TRUE(out[i].on_moving_track.empty()) << "scan " << i;
+  // The tracker's own labels are unchanged by it: the wall counts as confirmed there (scans 4
+  // and 5, 0.8 m apart).
+  EXPECT_EQ(out[5].dynamic, (std::vector<std::uint8_t>{1, 1, 1}));
 }
 
 TEST(GridComponents, TouchingCellsJoinAndAGapOfACellSplits) {
