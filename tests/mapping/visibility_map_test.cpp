@@ -246,6 +246,19 @@ Eigen::Matrix3Xf wall_at(float x) {
   return m;
 }
 
+// The wall at x = 12 hit in `wall_scans` scans from (0, 0.5, 1), and `behind_scans` more that
+// see through it to a wall at x = 15 (the wall gone for them).
+VisibilityMap wall_seen(int wall_scans, int behind_scans) {
+  VisibilityMap map({});
+  const auto wall = wall_at(12.0f), behind = wall_at(15.0f);
+  const Eigen::Vector3d origin(0, 0.5, 1.0);
+  for (int s = 0; s < wall_scans; ++s) map.add_hits(wall);
+  for (int s = 0; s < behind_scans; ++s) map.add_hits(behind);
+  for (int s = 0; s < wall_scans; ++s) map.add_rays(wall, origin);
+  for (int s = 0; s < behind_scans; ++s) map.add_rays(behind, origin);
+  return map;
+}
+
 TEST(WholeLogVote, AnObjectInSpaceTheLogSawThroughIsDynamic) {
   // A box stands at x = 6 in scan 0; ten later scans see a wall at x = 12 through where it was.
   VisibilityMap map({});
@@ -277,13 +290,8 @@ TEST(WholeLogVote, AtALogEndAnObjectOnATrackSeenMovingInsideTheLogIsJudgedAsInsi
   // dynamic. One of its points lies on a track the tracker saw moving inside the log: the
   // whole object (one cluster) is judged by the rule inside the log, and stays dynamic.
   // Without that point it is static again (the log-end rule).
-  VisibilityMap map({});
-  const auto wall = wall_at(12.0f), behind = wall_at(15.0f);
-  const Eigen::Vector3d origin(0, 0.5, 1.0);
-  for (int s = 0; s < 10; ++s) map.add_hits(wall);
-  for (int s = 0; s < 3; ++s) map.add_hits(behind);
-  for (int s = 0; s < 10; ++s) map.add_rays(wall, origin);
-  for (int s = 0; s < 3; ++s) map.add_rays(behind, origin);
+  const VisibilityMap map = wall_seen(10, 3);
+  const auto wall = wall_at(12.0f);
   auto no_ground = [](const Eigen::Matrix3Xf& sub) {
     return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0);
   };
@@ -298,9 +306,7 @@ TEST(WholeLogVote, AtALogEndAnObjectOnATrackSeenMovingInsideTheLogIsJudgedAsInsi
             n);
   // A wall no ray ever went through (a far static blob whose centroid jitters, confirmed as a
   // track): static at a log end, tracked or not, as it is inside the log.
-  VisibilityMap solid({});
-  for (int s = 0; s < 10; ++s) solid.add_hits(wall);
-  for (int s = 0; s < 10; ++s) solid.add_rays(wall, origin);
+  const VisibilityMap solid = wall_seen(10, 0);
   std::vector<std::uint8_t> blob(n, 1);
   EXPECT_EQ(judge_with_log(wall, blob, solid, no_ground, kFreeSpaceRule, true, 0.2, track).vetoed,
             n);
@@ -309,13 +315,8 @@ TEST(WholeLogVote, AtALogEndAnObjectOnATrackSeenMovingInsideTheLogIsJudgedAsInsi
 TEST(WholeLogVote, InsideTheLogTheNormalsKeepWhatTheLogSawThroughOncePer25Hits) {
   // A wall at x = 12 hit in ten scans, and three scans that see through it to x = 15 (the wall
   // gone for them: something that crawls, occupied most of the time).
-  VisibilityMap map({});
-  const auto wall = wall_at(12.0f), behind = wall_at(15.0f);
-  const Eigen::Vector3d origin(0, 0.5, 1.0);
-  for (int s = 0; s < 10; ++s) map.add_hits(wall);
-  for (int s = 0; s < 3; ++s) map.add_hits(behind);
-  for (int s = 0; s < 10; ++s) map.add_rays(wall, origin);
-  for (int s = 0; s < 3; ++s) map.add_rays(behind, origin);
+  const VisibilityMap map = wall_seen(10, 3);
+  const auto wall = wall_at(12.0f);
   auto no_ground = [](const Eigen::Matrix3Xf& sub) { return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0); };
   int through = 0, hits = 0;
   for (Eigen::Index i = 0; i < wall.cols(); ++i) {
