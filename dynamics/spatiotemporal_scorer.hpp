@@ -28,7 +28,8 @@ struct ScoredScan {
   std::size_t tracked_points = 0;     // full points the tracker made dynamic
   // At the log's ends only (scans_before or scans_after 0; empty elsewhere and without the
   // tracker): 1 per full point on an object whose track the tracker saw moving from scans with
-  // both sides of the window (ObjectTracker), which an offline run's log-end veto then keeps.
+  // both sides of the window (ObjectTracker), which an offline run's pass 2 then judges by the
+  // rule inside the log rather than the log-end one (judge_with_log).
   std::vector<std::uint8_t> on_moving_track;
 };
 
