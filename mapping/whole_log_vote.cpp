@@ -43,33 +43,32 @@ std::size_t veto_unconfirmed(const Eigen::Matrix3Xf& points, std::vector<std::ui
   }
   if (!any) return 0;
   const auto id = clusters_on_voxels(points, dynamic, seed, radius, voxel);
-  std::vector<std::size_t> hits, crossed, through;
-  std::vector<std::uint8_t> tracked;  // holds a point of a track seen moving inside the log
+  // What each cluster's points saw of the log, summed.
+  struct ClusterCounts {
+    std::size_t hits = 0, crossed = 0, through = 0;
+    bool tracked = false;  // holds a point of a track seen moving inside the log
+  };
+  std::vector<ClusterCounts> cluster;
   const bool ends_tracked = log_end && on_moving_track.size() == dynamic.size();
   for (std::size_t i = 0; i < dynamic.size(); ++i) {
-    const auto c = id[i];
-    if (c < 0) continue;
-    if (static_cast<std::size_t>(c) >= hits.size()) {
-      hits.resize(static_cast<std::size_t>(c) + 1, 0);
-      crossed.resize(static_cast<std::size_t>(c) + 1, 0);
-      through.resize(static_cast<std::size_t>(c) + 1, 0);
-      tracked.resize(static_cast<std::size_t>(c) + 1, 0);
-    }
-    if (ends_tracked && on_moving_track[i]) tracked[static_cast<std::size_t>(c)] = 1;
-    hits[static_cast<std::size_t>(c)] += counts[i].hits;
-    crossed[static_cast<std::size_t>(c)] += counts[i].crossed;
-    through[static_cast<std::size_t>(c)] += counts[i].through;
+    if (id[i] < 0) continue;
+    const auto k = static_cast<std::size_t>(id[i]);
+    if (k >= cluster.size()) cluster.resize(k + 1);
+    auto& c = cluster[k];
+    c.tracked |= ends_tracked && on_moving_track[i];
+    c.hits += counts[i].hits;
+    c.crossed += counts[i].crossed;
+    c.through += counts[i].through;
   }
   std::size_t vetoed = 0;
   for (std::size_t i = 0; i < dynamic.size(); ++i) {
-    const auto c = id[i];
-    if (c < 0) continue;
-    const auto k = static_cast<std::size_t>(c);
+    if (id[i] < 0) continue;
+    const auto& c = cluster[static_cast<std::size_t>(id[i])];
     // At the log's ends fewer crossings than hits (crossed: within the margin of the hits), or
     // for an object on a track seen moving inside the log, the rule inside it; inside the log
     // only rays through count.
-    const bool ends_rule = log_end && !tracked[k];
-    if (ends_rule ? crossed[k] < hits[k] : gone_through_too_rarely(through[k], hits[k])) {
+    const bool ends_rule = log_end && !c.tracked;
+    if (ends_rule ? c.crossed < c.hits : gone_through_too_rarely(c.through, c.hits)) {
       dynamic[i] = 0;
       ++vetoed;
     }
