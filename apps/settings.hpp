@@ -166,6 +166,8 @@ inline auto mapping_fields() {
       CLEANMAP_FIELD_IN("visibility_margin", visibility.margin, kNonNegative, "Offline: rays stop this short of their hit, m"),
       CLEANMAP_FIELD_IN("visibility_extent_margin", visibility.extent_margin, kNonNegative,
                         "Offline: a ray crosses a cell where it passes this close to the box of the cell's hits, m"),
+      CLEANMAP_FIELD_IN("visibility_angular_margin", visibility.angular_margin, kNonNegative,
+                        "Offline: a ray goes through a cell's hits only past their level by this times its range, rad"),
       CLEANMAP_FIELD_IN("visibility_max_range", visibility.max_range, kPositive, "Offline: longer rays are not cast, m"),
       CLEANMAP_FIELD("occupancy_grid", occupancy_grid, "Write a 2D occupancy grid (PGM + YAML)"),
       CLEANMAP_FIELD_IN("grid_z_min", grid_z_min, kAny, "Lowest height above the local ground in the 2D grid, m"),

@@ -98,6 +98,8 @@ void validate(const VisibilityConfig& c) {
   if (!std::isfinite(c.resolution) || !(c.resolution > 0)) bad("visibility_resolution must be positive");
   if (!std::isfinite(c.margin) || !(c.margin >= 0)) bad("visibility_margin must be >= 0");
   if (!std::isfinite(c.extent_margin) || !(c.extent_margin >= 0)) bad("visibility_extent_margin must be >= 0");
+  if (!std::isfinite(c.angular_margin) || !(c.angular_margin >= 0))
+    bad("visibility_angular_margin must be >= 0");
   if (!std::isfinite(c.max_range) || !(c.max_range > 0)) bad("visibility_max_range must be positive");
   if (!(c.prob_hit > 0.5 && c.prob_hit < 1)) bad("prob_hit must be in (0.5, 1)");
   if (!(c.prob_miss > 0 && c.prob_miss < 0.5)) bad("prob_miss must be in (0, 0.5)");
@@ -215,21 +217,25 @@ VisibilityMap::Crossing VisibilityMap::crossing(const CellSet::Key& k, const Eig
   }
   // The band along `a` a ray must reach, grown by `grow`: hit from one side only, beyond the
   // level is inside what was hit, and passing there crosses it (a ray under a roof's level
-  // goes through the car beneath it).
-  auto band = [&](int a, double grow) {
+  // goes through the car beneath it). `inside`: shrunk by that much on that side.
+  auto band = [&](int a, double grow, double inside = 0.0) {
     const bool from_low = c.seen_from >> a & 1, from_high = c.seen_from >> (a + 3) & 1;
     const double lo = level[a].first - grow, hi = level[a].second + grow;
-    if (from_low && !from_high) return std::pair{lo, inf};
-    if (from_high && !from_low) return std::pair{-inf, hi};
+    if (from_low && !from_high) return std::pair{lo + inside, inf};
+    if (from_high && !from_low) return std::pair{-inf, hi - inside};
     return std::pair{lo, hi};
   };
+  // Through, where the hits were seen from one side: beyond their level by the beam's width
+  // and the pose's rotation error at this range (t = 0 at `from`, 1 at the sensor). A level
+  // seen from both sides (or none known) has no inside to pass into: reaching it counts.
+  const double beyond = config_.angular_margin * (1.0 - std::min(t0, t1)) * dir.norm();
   auto reaches = [&](int a) {
     double ta = t0, tb = t1;
     const auto near = band(a, margin);
     clip(from, dir, a, near.first, near.second, ta, tb);
     if (tb < ta) return Crossing::kNone;
     ta = t0, tb = t1;
-    const auto at = band(a, 0.0);
+    const auto at = band(a, 0.0, beyond);
     clip(from, dir, a, at.first, at.second, ta, tb);
     return tb < ta ? Crossing::kNear : Crossing::kThrough;
   };
@@ -242,7 +248,9 @@ VisibilityMap::Crossing VisibilityMap::crossing(const CellSet::Key& k, const Eig
     // Through a face's level beside its hits (past a roof's edge) is near it, not through it.
     double ta = t0, tb = t1;
     for (int a = 0; a < 3; ++a) {
-      const auto b = c.faces >> a & 1 ? band(a, 0.0) : std::pair{level[a].first - margin, level[a].second + margin};
+      const auto b = c.faces >> a & 1
+                         ? band(a, 0.0, beyond)
+                         : std::pair{level[a].first - margin, level[a].second + margin};
       clip(from, dir, a, b.first, b.second, ta, tb);
     }
     return tb < ta ? Crossing::kNear : Crossing::kThrough;

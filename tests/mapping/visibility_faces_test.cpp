@@ -62,6 +62,36 @@ TEST(VisibilityFaces, ARayUnderARoofsLevelCrossesWhatWasBeneathIt) {
   }
 }
 
+TEST(VisibilityFaces, AGrazingRayGoesThroughAHitsLevelOnlyPastTheBeamsWidth) {
+  // A roof at z = 1.5 filling its cell in x in [20.0, 20.2), y in [0, 0.2), hit from a sensor
+  // at 1.6 m. A later ray from there to a wall at x = 30.1 passes the cell `dip` under the
+  // roof's level (1.5 - dip at x = 20.2, a few mm less at x = 20.0). The cell's far side is
+  // 20.1 m from the sensor: at 1 mrad the ray must pass 2.01 cm under the level to go through
+  // it; 1 cm under, it only grazed it (crossed, within the 5 cm extent margin, not through).
+  const Eigen::Vector3d origin(0.1, 0.1, 1.6);
+  std::vector<Eigen::Vector3f> patch;
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < 10; ++j) patch.emplace_back(20.01f + 0.02f * i, 0.01f + 0.02f * j, 1.5f);
+  }
+  const Eigen::Vector3f cell(20.1f, 0.1f, 1.5f);
+  for (const double angular : {0.0, 0.001}) {
+    for (const double dip : {0.01, 0.04}) {
+      VisibilityConfig c;
+      c.angular_margin = angular;
+      VisibilityMap map(c);
+      map.add_hits(cloud(patch), origin);
+      // z at x = 20.2 on the line from the origin to the wall: 1.5 - dip.
+      const float z = static_cast<float>(1.6 - (0.1 + dip) * 30.0 / 20.1);
+      const Eigen::Matrix3Xf wall = cloud({{30.1f, 0.1f, z}});
+      map.add_hits(wall, origin);
+      map.add_rays(wall, origin);
+      EXPECT_EQ(map.counts(cell).crossed, 1) << angular << " " << dip;
+      EXPECT_EQ(map.counts(cell).through, angular == 0.0 || dip > 0.03 ? 1 : 0)
+          << angular << " " << dip;
+    }
+  }
+}
+
 // A car's side at y = 0.1 seen as three rows (z = 1.3, 1.5, 1.7, one per cell), x in
 // [5.0, 5.6): each cell holds one row, thin along y and z.
 Eigen::Matrix3Xf side_rows() {
@@ -175,10 +205,14 @@ Eigen::Matrix3Xf roof_to_edge() {
 TEST(VisibilityGrazing, ARayThroughARoofsLevelPastItsEdgeIsNearIt) {
   // Rays from y = -8 (1.9 m up) descend across the roof's edge cell: one meets the roof's level
   // at y = 0.23, among its hits (through), one at y = 0.35, 10 cm past its edge (near: it went
-  // by the roof, as rays past a parked car's roof do).
+  // by the roof, as rays past a parked car's roof do). The edge alone, without the angular
+  // margin (AGrazingRayGoesThroughAHitsLevelOnlyPastTheBeamsWidth): at 1 mrad this ray, 2.8
+  // degrees off the roof, is 8 mm under its level only 16 cm further on, past the edge.
   const Eigen::Vector3f edge_cell(5.25f, 0.3f, 1.5f);
   for (const double at : {0.23, 0.35}) {
-    VisibilityMap map{VisibilityConfig{}};
+    VisibilityConfig c;
+    c.angular_margin = 0.0;
+    VisibilityMap map(c);
     map.add_hits(roof_to_edge(), Eigen::Vector3d(5.25, -8.0, 1.9));
     map.fit_surfaces();
     ASSERT_EQ(map.counts(edge_cell).faces, 1 << 2);

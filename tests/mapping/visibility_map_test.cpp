@@ -222,6 +222,11 @@ TEST(VisibilityMap, BadSettingsAreNamed) {
   c = {};
   c.extent_margin = -0.01;
   EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
+  c = {};
+  c.angular_margin = std::nan("");
+  EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
+  c.angular_margin = -0.001;
+  EXPECT_THROW(VisibilityMap{c}, std::runtime_error);
 }
 
 // A 1 m cube of points at `x` (on a 0.2 m lattice), as one scan sees it.
