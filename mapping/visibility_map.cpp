@@ -358,7 +358,7 @@ std::vector<std::uint8_t> VisibilityMap::moved_through(const Eigen::Matrix3Xf& p
     const auto own = cells_.find(k);
     // A cell only ever crossed near its hits may be a surface the rays grazed.
     if (own == cells_.end() || own->second.through == 0) continue;
-    if (evidence(own->second) > free && own->second.through <= own->second.hits) continue;
+    if (evidence(own->second) > free && own->second.stood()) continue;
     bool clear = true;
     for (int dx = -1; dx <= 1 && clear; ++dx) {
       for (int dy = -1; dy <= 1 && clear; ++dy) {

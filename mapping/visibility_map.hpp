@@ -89,7 +89,8 @@ namespace cleanmap {
 // normals call moving: its cells no longer gone through, it is static in scans 1 and 2),
 // Pandar64 0.574 -> 0.576, 04 0.928 either way, 01 0.671 -> 0.657, synthetic street 0.954 ->
 // 0.953. With moved_through's rule below, 1.5 and 3 mrad took 01 from 0.721 (1 mrad) to 0.712
-// and 0.632.
+// and 0.632 (measured with a first version that also narrowed levels seen from both sides; at
+// 1 mrad it gave the same tables).
 struct VisibilityConfig {
   double resolution = 0.2;  // m
   double margin = 0.3;      // m
@@ -158,6 +159,9 @@ class VisibilityMap {
     std::array<std::uint8_t, 3> lo{255, 255, 255}, hi{0, 0, 0};
     std::uint8_t faces = 0;  // bit a: its hits face along axis a (fit_surfaces); 0: not known
     std::uint8_t seen_from = 0;  // bit a: hit by a ray going towards +a; bit a + 3: towards -a
+    // Hit in at least as many scans as gone through: what pass 2 pins in the clean map
+    // (seen_standing), and what moved_through calls free only on the OctoMap's weights.
+    bool stood() const { return through <= hits; }
   };
   Counts counts(const Eigen::Vector3f& p) const;  // zero for a cell never hit
   std::size_t cells() const { return cells_.size(); }
@@ -176,8 +180,7 @@ class VisibilityMap {
   std::uint8_t faces(const VoxelKey& k, const Counts& c) const;
   // How the segment (t in [t0, t1] along from + dir t) passes the hits of cell `k` (OctoMap
   // key): through their level where they are thin, by angular_margin times the range
-  // (kThrough), only within extent_margin of it
-  // (kNear), or not at all.
+  // (kThrough), only within extent_margin of it (kNear), or not at all.
   enum class Crossing : std::uint8_t { kNone, kNear, kThrough };
   Crossing crossing(const CellSet::Key& k, const Eigen::Vector3d& from, const Eigen::Vector3d& dir, double t0,
                     double t1) const;

@@ -98,8 +98,7 @@ std::vector<std::int32_t> seen_standing(const VisibilityMap& log, const Eigen::M
                                         const std::vector<std::int32_t>& among) {
   std::vector<std::int32_t> out;
   for (const auto i : among) {
-    const auto c = log.counts(points.col(i));
-    if (c.through <= c.hits) out.push_back(i);
+    if (log.counts(points.col(i)).stood()) out.push_back(i);
   }
   return out;
 }
