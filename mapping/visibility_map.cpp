@@ -134,6 +134,8 @@ void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points, const std::optional
     if (!grid_->coordToKeyChecked(p.x(), p.y(), p.z(), k)) continue;  // beyond +-6.5 km
     Counts& c = cells_[voxel_of(p, inv)];
     bump(c.hits);
+    c.first_hit = std::min(c.first_hit, hit_scans_);
+    c.last_hit = std::max(c.last_hit, hit_scans_);
     if (origin) {
       for (int a = 0; a < 3; ++a) c.seen_from |= p[a] > (*origin)[a] ? 1 << a : 1 << (a + 3);
     }
@@ -143,6 +145,7 @@ void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points, const std::optional
     }
     hit_cells_.insert({k[0], k[1], k[2]});
   }
+  if (hit_scans_ < kLastScan) ++hit_scans_;
   surfaces_fitted_ = false;
 }
 
@@ -338,8 +341,12 @@ void VisibilityMap::count(const ScanRays& rays) {
     const auto it = cells_.find(VoxelKey{k[0] - kOffset, k[1] - kOffset, k[2] - kOffset});
     if (it == cells_.end()) return;
     bump(it.value().crossed);
-    if (through.contains(k)) bump(it.value().through);
+    if (!through.contains(k)) return;
+    Counts& c = it.value();
+    bump(c.through);
+    if (ray_scans_ < c.first_hit || ray_scans_ > c.last_hit) bump(c.through_apart);
   });
+  if (ray_scans_ < kLastScan) ++ray_scans_;
 }
 
 VisibilityMap::Counts VisibilityMap::counts(const Eigen::Vector3f& p) const {
@@ -358,7 +365,7 @@ std::vector<std::uint8_t> VisibilityMap::moved_through(const Eigen::Matrix3Xf& p
     const auto own = cells_.find(k);
     // A cell only ever crossed near its hits may be a surface the rays grazed.
     if (own == cells_.end() || own->second.through == 0) continue;
-    if (evidence(own->second) > free && own->second.stood()) continue;
+    if (evidence(own->second) > free && !own->second.left()) continue;
     bool clear = true;
     for (int dx = -1; dx <= 1 && clear; ++dx) {
       for (int dy = -1; dy <= 1 && clear; ++dy) {

@@ -116,7 +116,8 @@ class VisibilityMap {
   VisibilityMap& operator=(VisibilityMap&&) noexcept;
 
   // One scan's hits (world frame), seen from `origin` (the sensor; nullopt: not known): each
-  // cell it hits counts once. Not thread-safe.
+  // cell it hits counts once. The n-th call is scan n (from 0): count and add_rays number
+  // their calls the same way, so give them the scans in the same order. Not thread-safe.
   void add_hits(const Eigen::Matrix3Xf& points, const std::optional<Eigen::Vector3d>& origin = std::nullopt);
 
   // Once every scan's hits are in: the faces of each cell whose hits are a line or a dot (see
@@ -147,11 +148,12 @@ class VisibilityMap {
 
   // 1 where a point lies in a free cell with no occupied cell around it. Read-only: safe from
   // many threads once the rays are in. A cell is free when a ray went through it and either
-  // the OctoMap's weights say so or rays went through it in more scans than hit it: a car 36 m
-  // away on SemanticKITTI 01 is hit by one scan and gone through by 2-5 (it drove on), which
-  // the OctoMap weighs as occupied (0.85 a hit against 0.41 a crossing, free under -1.39).
+  // the OctoMap's weights say so or it left (Counts::left): a car 36 m away on SemanticKITTI 01
+  // is hit by one scan and gone through by 2-5 (it drove on), which the OctoMap weighs as
+  // occupied (0.85 a hit against 0.41 a crossing, free under -1.39).
   std::vector<std::uint8_t> moved_through(const Eigen::Matrix3Xf& points) const;
 
+  static constexpr std::uint16_t kLastScan = 65534;
   struct Counts {
     std::uint16_t hits = 0, crossed = 0;
     std::uint16_t through = 0;  // of the crossings, those through the hits themselves (no margin)
@@ -159,9 +161,19 @@ class VisibilityMap {
     std::array<std::uint8_t, 3> lo{255, 255, 255}, hi{0, 0, 0};
     std::uint8_t faces = 0;  // bit a: its hits face along axis a (fit_surfaces); 0: not known
     std::uint8_t seen_from = 0;  // bit a: hit by a ray going towards +a; bit a + 3: towards -a
+    // The first and last scan that hit it (add_hits numbers them; past kLastScan, 1.8 h at
+    // 10 Hz, every scan is kLastScan: rays of those scans are never "after" a hit).
+    std::uint16_t first_hit = kLastScan + 1, last_hit = 0;
+    // Of the scans gone through, those before its first hit or after its last: a mover's
+    // cell is gone through once it left (or before it came), a thin pole's also between the
+    // scans that hit it, where rays grazed past it.
+    std::uint16_t through_apart = 0;
     // Hit in at least as many scans as gone through: what pass 2 pins in the clean map
-    // (seen_standing), and what moved_through calls free only on the OctoMap's weights.
+    // (seen_standing).
     bool stood() const { return through <= hits; }
+    // Gone through in more scans than hit, outside the span of scans that hit it: what
+    // moved_through calls free where the OctoMap's weights do not.
+    bool left() const { return through_apart > hits; }
   };
   Counts counts(const Eigen::Vector3f& p) const;  // zero for a cell never hit
   std::size_t cells() const { return cells_.size(); }
@@ -175,6 +187,7 @@ class VisibilityMap {
   void cast_span(const Eigen::Matrix3Xf& points, const std::vector<std::int32_t>& span, const Eigen::Vector3d& origin,
                  CellSet& walked, CellSet::Reader& ever_hit, ScanRays& out) const;
   bool surfaces_fitted_ = false;
+  std::uint16_t hit_scans_ = 0, ray_scans_ = 0;  // calls of add_hits and of count, up to kLastScan
   CellSet hit_cells_;  // the same cells as bits: most crossed cells were never hit, one bit says so
   // The axes the hits of cell `k` face along (bit a), from its neighbours' hits.
   std::uint8_t faces(const VoxelKey& k, const Counts& c) const;
