@@ -192,6 +192,28 @@ TEST(VisibilityGrazing, InsideTheLogADynamicObjectOnlyGrazedIsStatic) {
   EXPECT_EQ(dynamic[0], 1);
 }
 
+TEST(VisibilityGrazing, InsideTheLogOnlyRaysApartFromTheHitsKeepAnObjectDynamic) {
+  // Three scans: two hit the dot, one goes through it (under its level, beyond it). Gone
+  // through after both hits, it left: the normals' call stands. Gone through between them, the
+  // ray grazed something that stood before and after (a pole a ring slid past): static again.
+  const Eigen::Vector3d above(0.1, 0.0, 1.8), under(0.1, 0.135, 1.47);
+  const Eigen::Matrix3Xf dot = cloud({kDot}), wall = cloud({{9.1f, 0.135f, 1.47f}});
+  auto no_ground = [](const Eigen::Matrix3Xf& sub) {
+    return std::vector<std::uint8_t>(static_cast<std::size_t>(sub.cols()), 0);
+  };
+  for (const int through_scan : {2, 1}) {
+    VisibilityMap map{VisibilityConfig{}};
+    for (int s = 0; s < 3; ++s) map.add_hits(s == through_scan ? wall : dot, s == through_scan ? under : above);
+    for (int s = 0; s < 3; ++s) map.add_rays(s == through_scan ? wall : dot, s == through_scan ? under : above);
+    ASSERT_EQ(map.counts(kDot).hits, 2);
+    ASSERT_EQ(map.counts(kDot).through, 1);
+    EXPECT_EQ(map.counts(kDot).through_apart, through_scan == 2 ? 1 : 0);
+    std::vector<std::uint8_t> dynamic{1};
+    judge_with_log(dot, dynamic, map, no_ground, kFreeSpaceRule, false);
+    EXPECT_EQ(dynamic[0], through_scan == 2 ? 1 : 0) << "gone through in scan " << through_scan;
+  }
+}
+
 // A flat roof at z = 1.5, seen from above as rings along y at x = 5.05, 5.25, 5.45 (one per
 // 0.2 m cell), y in [0.01, 0.25]: its edge is at y = 0.25, inside the cells [0.2, 0.4).
 Eigen::Matrix3Xf roof_to_edge() {
