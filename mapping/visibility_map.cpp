@@ -329,6 +329,10 @@ void VisibilityMap::cast_span(const Eigen::Matrix3Xf& points, const std::vector<
 }
 
 void VisibilityMap::count(const ScanRays& rays) {
+  // This call's rays are scan ray_scans_'s: that scan's hits must be in (add_hits numbers them).
+  if (ray_scans_ >= hit_scans_ && hit_scans_ < kLastScan) {
+    throw std::logic_error("VisibilityMap::count: more scans' rays than scans' hits");
+  }
   // OctoMap keys are cell indices offset by 2^15.
   constexpr int kOffset = 1 << 15;
   // Only cells hit at some time are counted (AND of the bitmaps, tile by tile). A cell the

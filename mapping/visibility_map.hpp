@@ -117,7 +117,8 @@ class VisibilityMap {
 
   // One scan's hits (world frame), seen from `origin` (the sensor; nullopt: not known): each
   // cell it hits counts once. The n-th call is scan n (from 0): count and add_rays number
-  // their calls the same way, so give them the scans in the same order. Not thread-safe.
+  // their calls the same way, so give them the scans in the same order (count throws
+  // std::logic_error when called more often than add_hits). Not thread-safe.
   void add_hits(const Eigen::Matrix3Xf& points, const std::optional<Eigen::Vector3d>& origin = std::nullopt);
 
   // Once every scan's hits are in: the faces of each cell whose hits are a line or a dot (see

@@ -128,6 +128,15 @@ TEST(VisibilityFaces, CastingBeforeTheFacesAreFittedIsRefused) {
   EXPECT_NO_THROW(map.cast(side_rows(), Eigen::Vector3d::Zero()));
 }
 
+TEST(VisibilityFaces, CountingMoreScansRaysThanHitsIsRefused) {
+  // Scans are numbered by add_hits: a second scan's rays with one scan's hits in would be
+  // counted against the wrong scan's first and last hits.
+  VisibilityMap map{VisibilityConfig{}};
+  map.add_hits(side_rows());
+  EXPECT_NO_THROW(map.add_rays(side_rows(), Eigen::Vector3d::Zero()));
+  EXPECT_THROW(map.add_rays(side_rows(), Eigen::Vector3d::Zero()), std::logic_error);
+}
+
 // One scan's ray from `origin` to a hit at `end` (a wall far behind what is tested).
 void ray(VisibilityMap& map, const Eigen::Vector3d& origin, const Eigen::Vector3f& end) {
   const Eigen::Matrix3Xf hit = cloud({end});
