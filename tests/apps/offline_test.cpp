@@ -201,8 +201,9 @@ TEST(OfflineRun, AStaticStreetLosesNothingOffline) {
   test::TempDir dir;
   ASSERT_EQ(run_cleanmap("demo --generate-only --static-scene --scans 30 --out " + (dir / "d").string()), 0);
   std::vector<double> free_share;  // of the static cloud's points, in free cells of the map
-  for (const auto& [mode, bound] :
-       {std::pair<std::string, double>{"", 0.0}, {" --online", 0.0005}, {" --use-given-poses", 0.0}}) {
+  for (const auto& [mode, bound] : {std::pair<std::string, double>{"", 0.0},
+                                    {" --online", 0.0005},
+                                    {" --use-given-poses", 0.0}}) {
     const auto out_dir = dir / ("r" + std::to_string(mode.size()));
     std::string out;
     ASSERT_EQ(run_cleanmap("run --input " + (dir / "d" / "sequence").string() + " --out " + out_dir.string() +

@@ -212,8 +212,10 @@ TEST(VisibilityGrazing, InsideTheLogOnlyRaysApartFromTheHitsKeepAnObjectDynamic)
   };
   for (const int through_scan : {2, 1}) {
     VisibilityMap map{VisibilityConfig{}};
-    for (int s = 0; s < 3; ++s) map.add_hits(s == through_scan ? wall : dot, s == through_scan ? under : above);
-    for (int s = 0; s < 3; ++s) map.add_rays(s == through_scan ? wall : dot, s == through_scan ? under : above);
+    auto hit = [&](int s) -> const Eigen::Matrix3Xf& { return s == through_scan ? wall : dot; };
+    auto from = [&](int s) -> const Eigen::Vector3d& { return s == through_scan ? under : above; };
+    for (int s = 0; s < 3; ++s) map.add_hits(hit(s), from(s));
+    for (int s = 0; s < 3; ++s) map.add_rays(hit(s), from(s));
     ASSERT_EQ(map.counts(kDot).hits, 2);
     ASSERT_EQ(map.counts(kDot).through, 1);
     EXPECT_EQ(map.counts(kDot).through_apart, through_scan == 2 ? 1 : 0);

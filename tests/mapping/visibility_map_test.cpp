@@ -131,7 +131,8 @@ TEST(VisibilityMap, MovedOnlyWhenGoneThroughOutsideTheScansThatHitIt) {
   // past in the other six stands: only scans 0 and 8 went through it before its first hit or
   // after its last. Both are hit in 3 scans and gone through in 6; the OctoMap's weights call
   // neither free (3 x 0.847 - 6 x 0.405 = +0.11).
-  for (const auto& [hit_in, moved] : std::vector<std::pair<std::vector<int>, int>>{{{0, 1, 2}, 1}, {{1, 4, 7}, 0}}) {
+  for (const auto& [hit_in, moved] :
+       std::vector<std::pair<std::vector<int>, int>>{{{0, 1, 2}, 1}, {{1, 4, 7}, 0}}) {
     VisibilityConfig c;
     c.resolution = 0.1;
     VisibilityMap map(c);
