@@ -48,7 +48,8 @@ auto spill_source(const fs::path& dir, std::size_t scans, std::size_t& next, boo
 
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const fs::path& spill_dir,
-    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg,
+    VisibilityMap& visibility, const LogFloor& floor, const std::vector<StampedPose>& poses,
+    const PipelineConfig& cfg,
     const std::function<void(ScoredScan&, const std::optional<SweepOrigin>&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan) {
   OfflinePassStats stats;
@@ -102,7 +103,7 @@ OfflinePassStats run_offline_pass(
                 const auto verdict = judge_with_log(
                     r.scan.points, r.dynamic, visibility,
                     [&](const Eigen::Matrix3Xf& sub) {
-                      return segment_ground(sub, cfg.scorer.ground);
+                      return segment_ground(sub, cfg.scorer.ground, floor);
                     },
                     cfg.mapping.free_space_objects, r.scans_before == 0 || r.scans_after == 0,
                     cfg.mapping.free_space_voxel, r.on_moving_track);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/settings.hpp"
+#include "dynamics/ground_segmentation.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
 #include "io/pose_file.hpp"
 #include "mapping/visibility_map.hpp"
@@ -25,14 +26,15 @@ struct OfflinePassStats {
 // `visibility` and spilled scans 0..scans-1 to `spill_dir` (NNNNNN.spill): every scan's rays
 // (from where the sensor was at each point's time, by `poses`, one per scan; any other count:
 // from each scan's pose),
-// then every scan, in order, judged with the whole log (judge_with_log; scans side by side,
-// as the map is read-only by then), handed to `map_scan` (with where its sensor was, as its
-// rays) and `write_scan` in order. Progress
-// on the terminal per sweep; the spills are deleted as the last sweep reads them (the caller
-// owns the folder, and removes it however the run ends).
+// then every scan, in order, judged with the whole log (judge_with_log, its ground resting on
+// the log's `floor` as well; scans side by side, as the map is read-only by then), handed to
+// `map_scan` (with where its sensor was, as its rays) and `write_scan` in order. Progress on the
+// terminal per sweep; the spills are deleted as the last sweep reads them (the caller owns the
+// folder, and removes it however the run ends).
 OfflinePassStats run_offline_pass(
     const std::string& command, std::size_t scans, const std::filesystem::path& spill_dir,
-    VisibilityMap& visibility, const std::vector<StampedPose>& poses, const PipelineConfig& cfg,
+    VisibilityMap& visibility, const LogFloor& floor, const std::vector<StampedPose>& poses,
+    const PipelineConfig& cfg,
     const std::function<void(ScoredScan&, const std::optional<SweepOrigin>&)>& map_scan,
     const std::function<void(ScoredScan&, const std::vector<std::uint32_t>&)>& write_scan);
 

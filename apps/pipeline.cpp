@@ -87,6 +87,7 @@ void first_pass(PipelineRun& run, Progress& progress) {
                   const auto t = Clock::now();
                   run.visibility->add_hits(
                       r.scan.points, r.scan.pose ? std::optional<Eigen::Vector3d>(r.scan.pose->translation()) : std::nullopt);
+                  add_to_floor(r.scan.points, run.cfg.scorer.ground, run.floor);
                   run.visibility_s += since(t);
                 }
                 return item;
@@ -254,7 +255,7 @@ void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohman
   progress.finish();
   if (run.offline) {
     const auto pass = run_offline_pass(
-        opt.command, run.seq.size(), run.spill_dir, *run.visibility, run.poses, cfg,
+        opt.command, run.seq.size(), run.spill_dir, *run.visibility, run.floor, run.poses, cfg,
         [&](ScoredScan& r, const std::optional<SweepOrigin>& sensor) { run.map_scan(r, sensor); },
         [&](ScoredScan& r, const std::vector<std::uint32_t>& gt) { run.write_scan(r, gt); });
     run.void_added = pass.added;

@@ -175,7 +175,8 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
     summary["visibility"] = {{"cells", visibility->cells()},
                              {"resolution", cfg.mapping.visibility.resolution},
                              {"added_points", void_added},
-                             {"vetoed_points", void_vetoed}};
+                             {"vetoed_points", void_vetoed},
+                             {"floor_cells", floor.size()}};
   }
   summary["tracked_points"] = tracked;
   summary["non_finite_dropped"] = dropped;

@@ -11,13 +11,14 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "apps/pipeline.hpp"
 #include "apps/run_inputs.hpp"
+#include "dynamics/ground_segmentation.hpp"
 #include "dynamics/object_tracker.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
 #include "evaluation/dynamic_metrics.hpp"
@@ -82,6 +83,7 @@ struct PipelineRun {
   std::optional<LoadedScan> second;
   std::unique_ptr<OctoMapBuilder> octo;
   std::unique_ptr<VisibilityMap> visibility;
+  LogFloor floor;  // offline: the whole log's lowest points, for pass 2's ground
   SpatiotemporalScorer scorer;
   ObjectTracker tracker;
   std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans

@@ -125,62 +125,108 @@ void merge_memory(CellMap& lowest, const CellMap& lowest_allowed, GroundMemory& 
   }
 }
 
-}  // namespace
+std::vector<VoxelKey> cell_keys(const Eigen::Matrix3Xf& points, const GroundConfig& c) {
+  const double inv = 1.0 / c.cell;
+  std::vector<VoxelKey> key(static_cast<std::size_t>(points.cols()));
+  for (std::size_t i = 0; i < key.size(); ++i) {
+    const auto p = points.col(static_cast<Eigen::Index>(i));
+    key[i] = {static_cast<std::int32_t>(std::floor(p.x() * inv)),
+              static_cast<std::int32_t>(std::floor(p.y() * inv)), 0};
+  }
+  return key;
+}
 
-std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& c,
-                                         GroundMemory* memory) {
-  const auto h = ground_heights(points, c, memory);
+// Each point's height above its cell's floor, from the cells' lowest points (`lowest`: this
+// scan's; `elsewhere(cell, k, z)`: cell k, which this scan did not see, as a neighbour of
+// `cell`, true when known).
+// A cell's floor is the lowest point of its 3x3 block, unless that floor floats above the
+// slope-limited lower envelope of the lowest points within `reach` (min over cells n of
+// lowest(n) + max_slope * distance, a morphological opening with a cone as in progressive
+// morphological ground filters): then it is a roof, and the envelope is its floor. The
+// envelope alone lifts the floor beside objects by max_slope * cell (a car's sill became
+// ground: SemanticKITTI 01 recall 0.75 -> 0.60).
+template <class Elsewhere>
+std::vector<float> heights_over(const Eigen::Matrix3Xf& points, const std::vector<VoxelKey>& key,
+                                const GroundConfig& c, const CellMap& lowest, Elsewhere elsewhere) {
+  const auto around = floor_neighbours(c);
+  CellMap ground_z;
+  ground_z.reserve(lowest.size());
+  for (const auto& [k, z] : lowest) {
+    float g = z;
+    for (const auto& [off, rise] : around) {
+      const VoxelKey n{k.x + off.x, k.y + off.y, 0};
+      float other = 0.0f;
+      if (const auto it = lowest.find(n); it != lowest.end()) {
+        g = std::min(g, it->second + rise);
+      } else if (elsewhere(k, n, other)) {
+        g = std::min(g, other + rise);
+      }
+    }
+    ground_z.emplace(k, g);
+  }
+  std::vector<float> height(key.size());
+  for (std::size_t i = 0; i < key.size(); ++i) {
+    height[i] = points(2, static_cast<Eigen::Index>(i)) - ground_z.find(key[i])->second;
+  }
+  return height;
+}
+
+std::vector<std::uint8_t> below(const std::vector<float>& h, const GroundConfig& c) {
   std::vector<std::uint8_t> ground(h.size());
   const auto band = static_cast<float>(c.height);
   for (std::size_t i = 0; i < h.size(); ++i) ground[i] = h[i] < band ? 1 : 0;
   return ground;
 }
 
+}  // namespace
+
+std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& c,
+                                         GroundMemory* memory) {
+  return below(ground_heights(points, c, memory), c);
+}
+
 std::vector<float> ground_heights(const Eigen::Matrix3Xf& points, const GroundConfig& c, GroundMemory* memory) {
-  const double inv = 1.0 / c.cell;
-  const auto n = static_cast<std::size_t>(points.cols());
-  std::vector<VoxelKey> key(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto p = points.col(static_cast<Eigen::Index>(i));
-    key[i] = {static_cast<std::int32_t>(std::floor(p.x() * inv)),
-              static_cast<std::int32_t>(std::floor(p.y() * inv)), 0};
-  }
+  const auto key = cell_keys(points, c);
   const bool remembers = memory != nullptr && memory->scans > 0;
   CellMap lowest_allowed;
   CellMap lowest = cell_lowest(points, key, c, remembers ? &lowest_allowed : nullptr);
   if (remembers) merge_memory(lowest, lowest_allowed, *memory);
-  // A cell's floor is the lowest point of its 3x3 block, unless that floor floats above the
-  // slope-limited lower envelope of the lowest points within `reach` (min over cells n of
-  // lowest(n) + max_slope * distance, a morphological opening with a cone as in progressive
-  // morphological ground filters): then it is a roof, and the envelope is its floor. The
-  // envelope alone lifts the floor beside objects by max_slope * cell (a car's sill became
-  // ground: SemanticKITTI 01 recall 0.75 -> 0.60).
   // Neighbours come from the memory too when it holds cells this scan did not see.
-  const auto around = floor_neighbours(c);
-  auto lowest_at = [&](const VoxelKey& k, float& z) {
-    if (const auto it = lowest.find(k); it != lowest.end()) {
-      z = it->second;
-      return true;
-    }
+  return heights_over(points, key, c, lowest, [&](const VoxelKey&, const VoxelKey& k, float& z) {
     if (memory == nullptr) return false;
     const auto it = memory->lowest.find(k);
     if (it == memory->lowest.end()) return false;
     z = it->second.z;
     return true;
-  };
-  CellMap ground_z;
-  ground_z.reserve(lowest.size());
+  });
+}
+
+void add_to_floor(const Eigen::Matrix3Xf& points, const GroundConfig& c, LogFloor& floor) {
+  const CellMap lowest = cell_lowest(points, cell_keys(points, c), c, nullptr);
   for (const auto& [k, z] : lowest) {
-    float g = z;
-    for (const auto& [off, rise] : around) {
-      float other = 0.0f;
-      if (lowest_at(VoxelKey{k.x + off.x, k.y + off.y, 0}, other)) g = std::min(g, other + rise);
-    }
-    ground_z.emplace(k, g);
+    auto [it, fresh] = floor.try_emplace(k, z);
+    if (!fresh && z < it->second) it.value() = z;
   }
-  std::vector<float> height(n);
-  for (std::size_t i = 0; i < n; ++i) height[i] = points(2, static_cast<Eigen::Index>(i)) - ground_z.find(key[i])->second;
-  return height;
+}
+
+std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& c,
+                                         const LogFloor& floor) {
+  const auto key = cell_keys(points, c);
+  CellMap lowest_allowed;
+  CellMap lowest = cell_lowest(points, key, c, &lowest_allowed);
+  // The log's lowest point counts where this scan's block says it may be floor: in the cell
+  // itself, and for a neighbour this scan did not see, under the cell it floors.
+  auto admissible = [&](const VoxelKey& cell, const VoxelKey& k, float& z) {
+    const auto f = floor.find(k);
+    if (f == floor.end() || f->second < lowest_allowed.find(cell)->second) return false;
+    z = f->second;
+    return true;
+  };
+  for (auto it = lowest.begin(); it != lowest.end(); ++it) {
+    float z = 0.0f;
+    if (admissible(it->first, it->first, z) && z < it->second) it.value() = z;
+  }
+  return below(heights_over(points, key, c, lowest, admissible), c);
 }
 
 }  // namespace cleanmap

@@ -50,6 +50,18 @@ struct GroundMemory {
 std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& config,
                                          GroundMemory* memory = nullptr);
 
+// The whole log's floor (offline runs, pass 1 to pass 2): each cell's lowest point over every
+// scan, below-ground returns left out per scan as segment_ground does. Beside the sensor's own
+// scan the road under a car 36 m away is hidden (the car's sill is its cell's lowest point, so
+// the car is "ground"); other scans saw that road before the car came or after it left.
+using LogFloor = tsl::robin_map<VoxelKey, float, VoxelKeyHash>;  // key z is 0
+void add_to_floor(const Eigen::Matrix3Xf& points, const GroundConfig& config, LogFloor& floor);
+// segment_ground with the floor also resting on the log's lowest points (read-only: safe from
+// many threads). The log's point lowers a cell as a memory's does: where it is not deeper
+// under this scan's block than a slope and the band explain.
+std::vector<std::uint8_t> segment_ground(const Eigen::Matrix3Xf& points, const GroundConfig& config,
+                                         const LogFloor& floor);
+
 // Each point's height above its cell's floor (segment_ground: ground below `config.height`).
 std::vector<float> ground_heights(const Eigen::Matrix3Xf& points, const GroundConfig& config,
                                   GroundMemory* memory = nullptr);

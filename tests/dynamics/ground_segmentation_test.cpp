@@ -161,5 +161,60 @@ TEST(GroundSegmentation, AMirrorImageRememberedFromOneScanDoesNotSinkTheNextScan
   EXPECT_EQ(ground_share(segment_ground(road.matrix(), config, &memory), 0, road.pts.size()), 1.0);
 }
 
+// A car's side far off (two rings at z 0.3 and 0.5 over x in [30, 34), y = 5), with no road
+// within `reach` of it in its own scan: the road beside and behind it is hidden or between
+// rings. Its lower ring is its cells' floor, so both rings are ground.
+Cloud far_car() {
+  Cloud c;
+  for (double x = 30.0; x < 34.0; x += 0.1) {
+    c.pts.emplace_back(float(x), 5.0f, 0.3f);
+    c.pts.emplace_back(float(x), 5.0f, 0.5f);
+  }
+  return c;
+}
+
+TEST(GroundSegmentation, TheLogsFloorUnderACarThatDroveOnLiftsItOffTheGround) {
+  const GroundConfig config;
+  const Cloud car = far_car();
+  EXPECT_EQ(ground_share(segment_ground(car.matrix(), config), 0, car.pts.size()), 1.0);
+  // Another scan saw the road there (z = 0) once the car had gone: over the log, the lowest
+  // point of those cells is the road's, and both rings stand 0.3 and 0.5 m above it.
+  Cloud road;
+  road.grid(28, 36, 3, 7, [](double, double) { return 0.0; });
+  LogFloor floor;
+  add_to_floor(car.matrix(), config, floor);
+  add_to_floor(road.matrix(), config, floor);
+  ASSERT_EQ(floor.at(VoxelKey{31, 5, 0}), 0.0f);
+  EXPECT_EQ(ground_share(segment_ground(car.matrix(), config, floor), 0, car.pts.size()), 0.0);
+  // The log's floor is read, never written: the car's own scan again, the same answer.
+  EXPECT_EQ(floor.at(VoxelKey{31, 5, 0}), 0.0f);
+}
+
+TEST(GroundSegmentation, TheLogsFloorDoesNotSinkACellDeeperThanASlopeExplains) {
+  // A mirror image 3.7 m down that filled its scan's whole block is that scan's floor there;
+  // under this scan's own floor it is deeper than a slope and the band explain (0.85 m under
+  // the block's median with the defaults), and the car stays on its own floor.
+  const GroundConfig config;
+  const Cloud car = far_car();
+  Cloud image;
+  image.grid(28, 36, 3, 7, [](double, double) { return -3.7; });
+  LogFloor floor;
+  add_to_floor(image.matrix(), config, floor);
+  ASSERT_EQ(floor.at(VoxelKey{31, 5, 0}), -3.7f);
+  EXPECT_EQ(ground_share(segment_ground(car.matrix(), config, floor), 0, car.pts.size()), 1.0);
+}
+
+TEST(GroundSegmentation, AScanThatSawItsOwnRoadIsSegmentedAsWithoutTheLogsFloor) {
+  // A static street: the log's floor of the scan itself changes nothing.
+  Cloud street;
+  street.grid(-10, 10, -10, 10, [](double x, double) { return 0.05 * x; });
+  street.grid(2, 4, 2, 3, [](double, double) { return 1.2; });  // a car's roof
+  const GroundConfig config;
+  LogFloor floor;
+  add_to_floor(street.matrix(), config, floor);
+  EXPECT_EQ(segment_ground(street.matrix(), config, floor),
+            segment_ground(street.matrix(), config));
+}
+
 }  // namespace
 }  // namespace cleanmap
