@@ -87,6 +87,7 @@ void first_pass(PipelineRun& run, Progress& progress) {
                   const auto t = Clock::now();
                   run.visibility->add_hits(
                       r.scan.points, r.scan.pose ? std::optional<Eigen::Vector3d>(r.scan.pose->translation()) : std::nullopt);
+                  // The log's floor, for pass 2's ground (timed with the visibility map).
                   add_to_floor(r.scan.points, run.cfg.scorer.ground, run.floor);
                   run.visibility_s += since(t);
                 }

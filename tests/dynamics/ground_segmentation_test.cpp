@@ -186,7 +186,8 @@ TEST(GroundSegmentation, TheLogsFloorUnderACarThatDroveOnLiftsItOffTheGround) {
   add_to_floor(road.matrix(), config, floor);
   ASSERT_EQ(floor.at(VoxelKey{31, 5, 0}), 0.0f);
   EXPECT_EQ(ground_share(segment_ground(car.matrix(), config, floor), 0, car.pts.size()), 0.0);
-  // The log's floor is read, never written: the car's own scan again, the same answer.
+  // The log's floor is read, never written: segmenting the car's scan left the cell's floor
+  // at the road's height, not the sill's.
   EXPECT_EQ(floor.at(VoxelKey{31, 5, 0}), 0.0f);
 }
 
