@@ -135,19 +135,20 @@ Eigen::Isometry3d sensor_pose(const SyntheticWorld& w, double t) {
   return pose;
 }
 
-SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar,
-                            std::size_t index, std::uint64_t seed) {
-  const double period = 1.0 / lidar.rate_hz;
-  const double stamp = static_cast<double>(index) * period;
-  const int rows = lidar.beams, cols = lidar.columns;
-  const double up = lidar.fov_up_deg * M_PI / 180, down = lidar.fov_down_deg * M_PI / 180;
+namespace {
 
-  // Every ray's result, then compacted; NaN range = no return.
-  std::vector<double> range(static_cast<std::size_t>(rows) * cols, std::nan(""));
-  std::vector<const SceneObject*> hit(range.size(), nullptr);
+// Every ray of one sweep (column-major, `rows` per column): its range (NaN: no return) and
+// the object it hit (nullptr: the ground).
+struct SweepHits {
+  std::vector<double> range;
+  std::vector<const SceneObject*> hit;
+};
+
+// Objects that can be seen at all in the sweep from `stamp` (within range, wherever they move
+// to).
+std::vector<const SceneObject*> objects_in_reach(const SyntheticWorld& world, const LidarModel& lidar,
+                                                 double stamp, double period) {
   const Eigen::Vector3d sensor_mid = sensor_pose(world, stamp + period / 2).translation();
-
-  // Objects that can be seen at all in this sweep (within range, wherever they move to).
   std::vector<const SceneObject*> near;
   for (const auto& obj : world.objects) {
     const Eigen::Vector2d c = obj.centre_at(stamp + period / 2);
@@ -156,10 +157,22 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
       near.push_back(&obj);
     }
   }
+  return near;
+}
 
+double elevation(const LidarModel& lidar, int r) {
+  const double up = lidar.fov_up_deg * M_PI / 180, down = lidar.fov_down_deg * M_PI / 180;
+  return lidar.beams == 1 ? 0.0 : down + (up - down) * r / (lidar.beams - 1);
+}
+
+SweepHits cast_sweep(const SyntheticWorld& world, const LidarModel& lidar, double stamp, double period) {
+  const int rows = lidar.beams, cols = lidar.columns;
+  SweepHits out;
+  out.range.assign(static_cast<std::size_t>(rows) * cols, std::nan(""));
+  out.hit.assign(out.range.size(), nullptr);
+  const auto near = objects_in_reach(world, lidar, stamp, period);
   tbb::parallel_for(0, cols, [&](int c) {
-    const double t_rel = period * c / cols;
-    const double t = stamp + t_rel;
+    const double t = stamp + period * c / cols;
     const Eigen::Isometry3d pose = sensor_pose(world, t);
     const double az = 2 * M_PI * c / cols;
     const Eigen::Vector3d o = pose.translation();
@@ -174,7 +187,7 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
       if (across <= r && along >= -r) candidates.push_back(obj);
     }
     for (int r = 0; r < rows; ++r) {
-      const double el = rows == 1 ? 0.0 : down + (up - down) * r / (rows - 1);
+      const double el = elevation(lidar, r);
       const Eigen::Vector3d d_sensor(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
                                      std::sin(el));
       const Eigen::Vector3d d = pose.linear() * d_sensor;
@@ -189,16 +202,28 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
       }
       if (best >= lidar.min_range && best <= lidar.max_range) {
         const std::size_t k = static_cast<std::size_t>(c) * rows + r;
-        range[k] = best;
-        hit[k] = best_obj;
+        out.range[k] = best;
+        out.hit[k] = best_obj;
       }
     }
   });
+  return out;
+}
 
+}  // namespace
+
+SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar,
+                            std::size_t index, std::uint64_t seed) {
+  const double period = 1.0 / lidar.rate_hz;
+  const double stamp = static_cast<double>(index) * period;
+  const int rows = lidar.beams, cols = lidar.columns;
+  const SweepHits sweep = cast_sweep(world, lidar, stamp, period);
+
+  // The returns, compacted in column order.
   SyntheticScan out;
   Scan& scan = out.scan;
   std::size_t n = 0;
-  for (double r : range) n += std::isfinite(r) ? 1 : 0;
+  for (double r : sweep.range) n += std::isfinite(r) ? 1 : 0;
   scan.points.resize(3, static_cast<Eigen::Index>(n));
   scan.time.resize(static_cast<Eigen::Index>(n));
   scan.intensity.resize(static_cast<Eigen::Index>(n));
@@ -211,14 +236,14 @@ SyntheticScan simulate_scan(const SyntheticWorld& world, const LidarModel& lidar
     const double az = 2 * M_PI * c / cols;
     for (int r = 0; r < rows; ++r) {
       const std::size_t k = static_cast<std::size_t>(c) * rows + r;
-      if (!std::isfinite(range[k])) continue;
-      const double el = rows == 1 ? 0.0 : down + (up - down) * r / (rows - 1);
-      const double rho = range[k] + (lidar.range_noise > 0 ? noise(rng) : 0.0);
+      if (!std::isfinite(sweep.range[k])) continue;
+      const double el = elevation(lidar, r);
+      const double rho = sweep.range[k] + (lidar.range_noise > 0 ? noise(rng) : 0.0);
       scan.points.col(j) = (rho * Eigen::Vector3d(std::cos(el) * std::cos(az),
                                                   std::cos(el) * std::sin(az), std::sin(el)))
                                .cast<float>();
       scan.time[j] = static_cast<float>(period * c / cols);
-      const SceneObject* obj = hit[k];
+      const SceneObject* obj = sweep.hit[k];
       scan.intensity[j] = obj ? obj->intensity : 30.0f;
       const std::uint32_t cls = (obj && obj->moving()) ? kLabelMoving : kLabelStatic;
       out.labels[static_cast<std::size_t>(j)] = cls | ((obj ? obj->id : 0u) << 16);
