@@ -85,6 +85,50 @@ Sequence open_bag(const fs::path& file, const SequenceOptions& options) {
 #endif
 }
 
+// The sequence's poses (options.poses_file, else FOLDER/poses.txt, if any; KITTI camera-frame
+// poses turned into the lidar frame with calib.txt's Tr), as read.
+std::vector<StampedPose> attach_poses(Sequence& seq, const fs::path& folder, const SequenceOptions& options) {
+  std::vector<StampedPose> stamped;
+  fs::path poses_file = options.poses_file;
+  if (poses_file.empty() && fs::exists(folder / "poses.txt")) poses_file = folder / "poses.txt";
+  if (poses_file.empty()) return stamped;
+  stamped = read_poses(poses_file, options.pose_format);
+  check_count(poses_file, stamped.size(), seq.scans.size(), "poses");
+  const bool kitti = std::isnan(stamped.front().stamp);
+  const bool to_lidar = kitti && seq.calib_tr && options.kitti_poses_in_camera_frame;
+  for (const auto& p : stamped) {
+    seq.poses.push_back(to_lidar ? Eigen::Isometry3d(seq.calib_tr->inverse() * p.pose * *seq.calib_tr) : p.pose);
+  }
+  seq.poses_source = poses_file.string() + (to_lidar ? " (camera frame -> lidar via Tr)" : "");
+  return stamped;
+}
+
+// The scans' times: options.times_file or FOLDER/times.txt, else the poses' stamps, else the
+// scan rate. They must increase.
+void attach_times(Sequence& seq, const fs::path& folder, const SequenceOptions& options,
+                  const std::vector<StampedPose>& stamped) {
+  const std::size_t n = seq.scans.size();
+  fs::path times_file = options.times_file;
+  if (times_file.empty() && fs::exists(folder / "times.txt")) times_file = folder / "times.txt";
+  if (!times_file.empty()) {
+    seq.times = read_times(times_file);
+    check_count(times_file, seq.times.size(), n, "times");
+    seq.times_source = times_file.string();
+  } else if (!stamped.empty() && !std::isnan(stamped.front().stamp)) {
+    for (const auto& p : stamped) seq.times.push_back(p.stamp);
+    seq.times_source = "pose stamps";
+  } else {
+    if (!(options.rate_hz > 0.0)) throw Error("scan rate must be positive");
+    for (std::size_t i = 0; i < n; ++i) seq.times.push_back(static_cast<double>(i) / options.rate_hz);
+    seq.times_source = "rate " + std::to_string(options.rate_hz) + " Hz";
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(seq.times[i] > seq.times[i - 1])) {
+      fail(times_file.empty() ? folder : times_file, "scan times must increase (scan " + std::to_string(i) + ")");
+    }
+  }
+}
+
 }  // namespace
 
 Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
@@ -134,41 +178,8 @@ Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
 
   if (fs::exists(folder / "calib.txt")) seq.calib_tr = read_kitti_calib_tr(folder / "calib.txt");
 
-  std::vector<StampedPose> stamped;
-  fs::path poses_file = options.poses_file;
-  if (poses_file.empty() && fs::exists(folder / "poses.txt")) poses_file = folder / "poses.txt";
-  if (!poses_file.empty()) {
-    stamped = read_poses(poses_file, options.pose_format);
-    check_count(poses_file, stamped.size(), n, "poses");
-    const bool kitti = std::isnan(stamped.front().stamp);
-    const bool to_lidar = kitti && seq.calib_tr && options.kitti_poses_in_camera_frame;
-    for (const auto& p : stamped) {
-      seq.poses.push_back(to_lidar ? Eigen::Isometry3d(seq.calib_tr->inverse() * p.pose * *seq.calib_tr)
-                                   : p.pose);
-    }
-    seq.poses_source = poses_file.string() + (to_lidar ? " (camera frame -> lidar via Tr)" : "");
-  }
-
-  fs::path times_file = options.times_file;
-  if (times_file.empty() && fs::exists(folder / "times.txt")) times_file = folder / "times.txt";
-  if (!times_file.empty()) {
-    seq.times = read_times(times_file);
-    check_count(times_file, seq.times.size(), n, "times");
-    seq.times_source = times_file.string();
-  } else if (!stamped.empty() && !std::isnan(stamped.front().stamp)) {
-    for (const auto& p : stamped) seq.times.push_back(p.stamp);
-    seq.times_source = "pose stamps";
-  } else {
-    if (!(options.rate_hz > 0.0)) throw Error("scan rate must be positive");
-    for (std::size_t i = 0; i < n; ++i) seq.times.push_back(static_cast<double>(i) / options.rate_hz);
-    seq.times_source = "rate " + std::to_string(options.rate_hz) + " Hz";
-  }
-  for (std::size_t i = 1; i < n; ++i) {
-    if (!(seq.times[i] > seq.times[i - 1])) {
-      fail(times_file.empty() ? folder : times_file,
-           "scan times must increase (scan " + std::to_string(i) + ")");
-    }
-  }
+  const auto stamped = attach_poses(seq, folder, options);
+  attach_times(seq, folder, options, stamped);
   return seq;
 }
 
