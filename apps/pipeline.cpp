@@ -29,7 +29,7 @@ Sequence open_checked(const PipelineOptions& opt, const PipelineConfig& cfg) {
   validate(cfg.scorer);
   if (opt.mapping) validate(cfg.mapping.map);
   if (opt.mapping && cfg.mapping.free_space) validate(cfg.mapping.free_space_objects, "mapping: free space vote");
-  if (opt.offline && opt.mapping) validate(cfg.mapping.visibility);
+  if (opt.mapping) validate(cfg.mapping.visibility);  // offline: the log's; online: its ends
   validate(cfg.input.platform);
   return open_sequence(opt.input, sequence_options(cfg.input));
 }
@@ -143,6 +143,8 @@ PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& c
   }
   if (opt.mapping) octo = std::make_unique<OctoMapBuilder>(cfg.mapping.map);
   if (offline) visibility = std::make_unique<VisibilityMap>(visibility_config(cfg));
+  if (!offline && opt.mapping)
+    ends = std::make_unique<StreamEnds>(2 * static_cast<std::size_t>(cfg.scorer.window_half) + 1);
 }
 
 void PipelineRun::describe(nlohmann::json& summary) const {
@@ -208,11 +210,18 @@ void PipelineRun::score(PipelineItem& item) {
   waiting[item.index] = std::move(item.labels);
   // Scorer, then tracker; at the log's end both hand over what they hold.
   const bool last = item.index + 1 == seq.size();
+  if (ends) ends->add(item.world);
   auto scored = scorer.push(std::move(item.world));
   if (last) append(scored, scorer.finish());
   std::vector<ScoredScan> ready;
   for (auto& s : scored) append(ready, tracker.push(std::move(s)));
   if (last) append(ready, tracker.finish());
+  for (auto& r : ready) {
+    if (ends && (r.scans_before == 0 || r.scans_after == 0)) {
+      ends_vetoed += ends->judge(r, visibility_config(cfg), cfg.mapping.free_space_objects,
+                                 cfg.mapping.free_space_voxel);
+    }
+  }
   if (last && ready.size() > 1) {  // the rest leaves with the flush items
     std::move(ready.begin() + 1, ready.end(), std::back_inserter(held));
     ready.resize(1);

@@ -178,6 +178,10 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
                              {"vetoed_points", void_vetoed},
                              {"floor_cells", floor.size()}};
   }
+  if (ends) {
+    summary["stream_ends"] = {{"scans_kept", 2 * cfg.scorer.window_half + 1},
+                              {"vetoed_points", ends_vetoed}};
+  }
   summary["tracked_points"] = tracked;
   summary["non_finite_dropped"] = dropped;
   summary["empty_scans"] = empty_scans;

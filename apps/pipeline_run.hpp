@@ -18,6 +18,7 @@
 
 #include "apps/pipeline.hpp"
 #include "apps/run_inputs.hpp"
+#include "apps/stream_ends.hpp"
 #include "dynamics/ground_segmentation.hpp"
 #include "dynamics/object_tracker.hpp"
 #include "dynamics/spatiotemporal_scorer.hpp"
@@ -84,6 +85,7 @@ struct PipelineRun {
   std::unique_ptr<OctoMapBuilder> octo;
   std::unique_ptr<VisibilityMap> visibility;
   LogFloor floor;  // offline: the whole log's lowest points, for pass 2's ground
+  std::unique_ptr<StreamEnds> ends;  // online: the first and last scan's judge (stage 2)
   SpatiotemporalScorer scorer;
   ObjectTracker tracker;
   std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans
@@ -95,7 +97,7 @@ struct PipelineRun {
   nlohmann::json per_scan = nlohmann::json::array();
   nlohmann::json empty_scans = nlohmann::json::array();  // {scan, reason} of scans with no valid point
   std::size_t masked = 0, points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0,
-              tracked = 0, void_added = 0, void_vetoed = 0;
+              tracked = 0, void_added = 0, void_vetoed = 0, ends_vetoed = 0;
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
   double read_s = 0, odometry_s = 0, scoring_s = 0, mapping_s = 0, write_s = 0, visibility_s = 0, rays_s = 0,
          judging_s = 0;

@@ -96,6 +96,13 @@ WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::
   return v;
 }
 
+std::size_t judge_log_end(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
+                          const VisibilityMap& log, const ObjectRule& rule, double voxel,
+                          const std::vector<std::uint8_t>& on_moving_track) {
+  return veto_unconfirmed(points, dynamic, log, static_cast<float>(rule.radius), true, voxel,
+                          on_moving_track);
+}
+
 std::vector<std::int32_t> seen_standing(const VisibilityMap& log, const Eigen::Matrix3Xf& points,
                                         const std::vector<std::int32_t>& among) {
   std::vector<std::int32_t> out;

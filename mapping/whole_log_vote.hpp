@@ -57,6 +57,14 @@ WholeLogVerdict judge_with_log(const Eigen::Matrix3Xf& points, std::vector<std::
                                const ObjectRule& rule, bool log_end, double voxel = 0.2,
                                const std::vector<std::uint8_t>& on_moving_track = {});
 
+// judge_with_log's rule at the log's ends alone (no objects added), for an online run's first
+// and last scan: there the normals' window has one side too, and `log` holds the scans at hand
+// (the window's), which saw through a place something left and not through a wall that came
+// into view. Returns the points made static.
+std::size_t judge_log_end(const Eigen::Matrix3Xf& points, std::vector<std::uint8_t>& dynamic,
+                          const VisibilityMap& log, const ObjectRule& rule, double voxel = 0.2,
+                          const std::vector<std::uint8_t>& on_moving_track = {});
+
 // Of `among` (indices of a scan's static points, world frame), those whose cell the whole log
 // saw standing at least as often as gone through: rays went through its hits
 // (Counts::through) in no more scans than hit it. Surfaces the clean map keeps occupied
