@@ -1,0 +1,112 @@
+#include "mapping/visibility_around.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tsl/robin_set.h>
+
+#include "geometry/voxel_key.hpp"
+
+namespace cleanmap {
+namespace {
+
+using CellSet3 = tsl::robin_set<VoxelKey, VoxelKeyHash>;
+
+// The cells of `points`, grown by `grow` cells on every side.
+CellSet3 cells_of(const Eigen::Matrix3Xf& points, double inv, int grow) {
+  CellSet3 cells;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const VoxelKey k = voxel_of(points.col(i), inv);
+    for (int dx = -grow; dx <= grow; ++dx) {
+      for (int dy = -grow; dy <= grow; ++dy) {
+        for (int dz = -grow; dz <= grow; ++dz) cells.insert({k.x + dx, k.y + dy, k.z + dz});
+      }
+    }
+  }
+  return cells;
+}
+
+// Directions from one origin in 1-degree bins of azimuth and elevation, each with the nearest
+// range at which a cell of interest lies along it.
+class DirectionBins {
+ public:
+  static constexpr int kAz = 360, kEl = 180;
+  DirectionBins() : near_(static_cast<std::size_t>(kAz) * kEl, std::numeric_limits<float>::infinity()) {}
+
+  // A ball of `radius` around `centre`, seen from the origin (`rel` = centre - origin).
+  void mark(const Eigen::Vector3d& rel, double radius) {
+    const double r = rel.norm();
+    if (!(r > radius)) {  // the origin inside it: every direction
+      std::fill(near_.begin(), near_.end(), 0.0f);
+      return;
+    }
+    const double half = std::asin(radius / r) * kDeg;  // the ball's angular radius, degrees
+    const double az = azimuth(rel), el = elevation(rel);
+    const int e0 = std::max(0, static_cast<int>(std::floor(el - half)) + 90);
+    const int e1 = std::min(kEl - 1, static_cast<int>(std::floor(el + half)) + 90);
+    // Azimuth spreads by 1 / cos(elevation); near a pole, every azimuth.
+    const double cos_el = std::cos((std::abs(el) + half) / kDeg);
+    const double spread = cos_el > 1e-3 ? half / cos_el : 180.0;
+    const int a0 = static_cast<int>(std::floor(az - spread)), a1 = static_cast<int>(std::floor(az + spread));
+    const auto nearest = static_cast<float>(r - radius);
+    for (int e = e0; e <= e1; ++e) {
+      for (int a = a0; a <= std::min(a1, a0 + kAz - 1); ++a) {
+        float& n = near_[static_cast<std::size_t>(e) * kAz + static_cast<std::size_t>(((a % kAz) + kAz) % kAz)];
+        n = std::min(n, nearest);
+      }
+    }
+  }
+  // Whether a ray to `rel` (point - origin) can pass a marked ball.
+  bool reaches(const Eigen::Vector3d& rel) const {
+    const int a = std::clamp(static_cast<int>(std::floor(azimuth(rel))), 0, kAz - 1);
+    const int e = std::clamp(static_cast<int>(std::floor(elevation(rel))) + 90, 0, kEl - 1);
+    return rel.norm() >= near_[static_cast<std::size_t>(e) * kAz + static_cast<std::size_t>(a)];
+  }
+
+ private:
+  static constexpr double kDeg = 180.0 / M_PI;
+  static double azimuth(const Eigen::Vector3d& v) {
+    const double a = std::atan2(v.y(), v.x()) * kDeg;
+    return a < 0 ? a + 360.0 : a;
+  }
+  static double elevation(const Eigen::Vector3d& v) { return std::atan2(v.z(), v.head<2>().norm()) * kDeg; }
+  std::vector<float> near_;
+};
+
+Eigen::Matrix3Xf columns(const Eigen::Matrix3Xf& m, const std::vector<Eigen::Index>& keep) {
+  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t j = 0; j < keep.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = m.col(keep[j]);
+  return out;
+}
+
+}  // namespace
+
+VisibilityMap visibility_around(const Eigen::Matrix3Xf& around, const std::vector<ScanView>& scans,
+                                const VisibilityConfig& config) {
+  VisibilityMap map(config);
+  const double res = config.resolution, inv = 1.0 / res;
+  const CellSet3 target = cells_of(around, inv, 0);
+  // A ray crosses a cell when it passes within its half diagonal of the centre; one more cell
+  // covers the 1-degree bins' edges and the ray's subsampling to one point per cell.
+  const double radius = 0.5 * std::sqrt(3.0) * res + res;
+  std::vector<Eigen::Matrix3Xf> rays(scans.size());
+  for (std::size_t s = 0; s < scans.size(); ++s) {
+    const Eigen::Matrix3Xf& p = *scans[s].points;
+    std::vector<Eigen::Index> reach;
+    DirectionBins bins;
+    for (const auto& k : target) {
+      const Eigen::Vector3d centre = (Eigen::Vector3d(k.x, k.y, k.z) + Eigen::Vector3d::Constant(0.5)) * res;
+      bins.mark(centre - scans[s].origin, radius);
+    }
+    for (Eigen::Index i = 0; i < p.cols(); ++i) {
+      if (bins.reaches(p.col(i).cast<double>() - scans[s].origin)) reach.push_back(i);
+    }
+    map.add_hits(p, scans[s].origin);
+    rays[s] = columns(p, reach);
+  }
+  for (std::size_t s = 0; s < scans.size(); ++s) map.add_rays(rays[s], scans[s].origin);
+  return map;
+}
+
+}  // namespace cleanmap
