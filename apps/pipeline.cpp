@@ -200,6 +200,7 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
     item->world = to_world(loaded.scan, sweep_motion(seq.poses, seq.times, index));
     poses.push_back({loaded.scan.stamp, seq.poses[index]});
   }
+  item->stamped = poses.back();
   odometry_s += since(t);
   throw_if_interrupted("reading scan " + std::to_string(index + 1) + " of " + std::to_string(seq.size()));
   return item;
@@ -210,7 +211,7 @@ void PipelineRun::score(PipelineItem& item) {
   waiting[item.index] = std::move(item.labels);
   // Scorer, then tracker; at the log's end both hand over what they hold.
   const bool last = item.index + 1 == seq.size();
-  if (ends) ends->add(item.world);
+  if (ends) ends->add(item.world, item.stamped);
   auto scored = scorer.push(std::move(item.world));
   if (last) append(scored, scorer.finish());
   std::vector<ScoredScan> ready;

@@ -41,6 +41,7 @@ struct PipelineItem {
   bool flush = false;             // after the log: carries one of the scans held at its end
   std::size_t flushes_after = 0;  // flush items still to come after this one
   Scan world;
+  StampedPose stamped;  // its entry of the run's poses (stage 1 writes it, stage 2 reads it)
   std::vector<std::uint32_t> labels;
   std::vector<std::pair<ScoredScan, std::vector<std::uint32_t>>> scored;
 };

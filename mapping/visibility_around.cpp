@@ -88,24 +88,37 @@ VisibilityMap visibility_around(const Eigen::Matrix3Xf& around, const std::vecto
   const double res = config.resolution, inv = 1.0 / res;
   const CellSet3 target = cells_of(around, inv, 0);
   // A ray crosses a cell when it passes within its half diagonal of the centre; one more cell
-  // covers the 1-degree bins' edges and the ray's subsampling to one point per cell.
-  const double radius = 0.5 * std::sqrt(3.0) * res + res;
+  // covers the ray's start a margin short of its point and its subsampling to one point per
+  // cell, and the sensor's travel over the sweep covers rays cast from where it was then.
+  const double reach_radius = 0.5 * std::sqrt(3.0) * res + res;
   std::vector<Eigen::Matrix3Xf> rays(scans.size());
+  std::vector<Eigen::VectorXf> ray_times(scans.size());
   for (std::size_t s = 0; s < scans.size(); ++s) {
-    const Eigen::Matrix3Xf& p = *scans[s].points;
-    std::vector<Eigen::Index> reach;
+    const ScanView& v = scans[s];
+    const Eigen::Matrix3Xf& p = *v.points;
+    const bool timed = v.times != nullptr && v.times->size() == p.cols() && p.cols() > 0;
+    const double t0 = timed ? static_cast<double>(v.times->minCoeff()) : 0.0;
+    const double t1 = timed ? static_cast<double>(v.times->maxCoeff()) : 0.0;
+    const double travel = std::max((v.sensor.at(t0) - v.origin).norm(), (v.sensor.at(t1) - v.origin).norm());
+    const double radius = reach_radius + (std::isfinite(travel) ? travel : 0.0);
     DirectionBins bins;
     for (const auto& k : target) {
       const Eigen::Vector3d centre = (Eigen::Vector3d(k.x, k.y, k.z) + Eigen::Vector3d::Constant(0.5)) * res;
-      bins.mark(centre - scans[s].origin, radius);
+      bins.mark(centre - v.origin, radius);
     }
+    std::vector<Eigen::Index> reach;
     for (Eigen::Index i = 0; i < p.cols(); ++i) {
-      if (bins.reaches(p.col(i).cast<double>() - scans[s].origin)) reach.push_back(i);
+      if (bins.reaches(p.col(i).cast<double>() - v.origin)) reach.push_back(i);
     }
-    map.add_hits(p, scans[s].origin);
+    map.add_hits(p, v.origin);
     rays[s] = columns(p, reach);
+    if (timed) {
+      ray_times[s].resize(static_cast<Eigen::Index>(reach.size()));
+      for (std::size_t j = 0; j < reach.size(); ++j) ray_times[s][static_cast<Eigen::Index>(j)] = (*v.times)[reach[j]];
+    }
   }
-  for (std::size_t s = 0; s < scans.size(); ++s) map.add_rays(rays[s], scans[s].origin);
+  map.fit_surfaces();
+  for (std::size_t s = 0; s < scans.size(); ++s) map.count(map.cast(rays[s], ray_times[s], scans[s].sensor));
   return map;
 }
 

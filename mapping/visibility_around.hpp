@@ -4,14 +4,19 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "mapping/sweep_origin.hpp"
 #include "mapping/visibility_map.hpp"
 
 namespace cleanmap {
 
-// One scan as the visibility map takes it: world-frame points and the sensor's position.
+// One scan as the visibility map takes it: world-frame points, their times after the scan's
+// stamp (empty: none), the sensor's position (its hits' side) and where it was over the sweep
+// (its rays').
 struct ScanView {
   const Eigen::Matrix3Xf* points = nullptr;
+  const Eigen::VectorXf* times = nullptr;  // nullptr: none
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  SweepOrigin sensor;
 };
 
 // The visibility of `scans` (in their order) for the cells of `around`: every hit, but only

@@ -26,15 +26,22 @@ Scan wall_at(float x) {
   return s;
 }
 
+// The n-th scan of a sensor standing still, 10 Hz.
+void add(StreamEnds& ends, Scan scan, int n) {
+  scan.stamp = 0.1 * n;
+  ends.add(scan, StampedPose{scan.stamp, *scan.pose});
+}
+
 // The last of four scans hits a wall at x = 12 that the normals call dynamic (one-sided window:
 // it looks like something that appeared). `before` is what the three scans before it hit.
 std::size_t last_scan_vetoed(float before) {
   StreamEnds ends(9);
-  for (int s = 0; s < 3; ++s) ends.add(wall_at(before));
-  ends.add(wall_at(12.0f));
+  for (int s = 0; s < 3; ++s) add(ends, wall_at(before), s);
+  add(ends, wall_at(12.0f), 3);
   ScoredScan last;
   last.index = 3;
   last.scan = wall_at(12.0f);
+  last.scan.stamp = 0.3;
   last.dynamic.assign(last.scan.size(), 1);
   last.scans_after = 0;
   const std::size_t vetoed = ends.judge(last, VisibilityConfig{}, kFreeSpaceRule, 0.2);
@@ -52,17 +59,31 @@ TEST(StreamEnds, AWallThatCameIntoViewAtTheEndIsStaticAndACarThatArrivedStaysDyn
   EXPECT_EQ(last_scan_vetoed(15.0f), 0u);
 }
 
-TEST(StreamEnds, AScanNoLongerAtHandIsNotJudged) {
-  // Only the last 2 scans are kept: scan 0 is gone, so it keeps the normals' call.
+TEST(StreamEnds, TheFirstScanIsJudgedWithTheFirstScansWhichThenGo) {
+  // A wall at x = 12 in every scan, never crossed: at either end the normals' call is vetoed.
+  // Only the last 2 scans are kept, and the first 2 until the first scan is judged: scan 0
+  // left the recent ones when scan 2 came in, and is judged with scans 0 and 1.
   StreamEnds ends(2);
-  for (int s = 0; s < 3; ++s) ends.add(wall_at(12.0f));
-  ScoredScan first;
-  first.index = 0;
-  first.scan = wall_at(12.0f);
-  first.dynamic.assign(first.scan.size(), 1);
-  EXPECT_EQ(ends.judge(first, VisibilityConfig{}, kFreeSpaceRule, 0.2), 0u);
-  EXPECT_TRUE(std::all_of(first.dynamic.begin(), first.dynamic.end(),
-                          [](std::uint8_t d) { return d == 1; }));
+  for (int s = 0; s < 3; ++s) add(ends, wall_at(12.0f), s);
+  auto scan = [](std::size_t index, int before, int after) {
+    ScoredScan r;
+    r.index = index;
+    r.scan = wall_at(12.0f);
+    r.scan.stamp = 0.1 * static_cast<double>(index);
+    r.dynamic.assign(r.scan.size(), 1);
+    r.scans_before = before;
+    r.scans_after = after;
+    return r;
+  };
+  ScoredScan middle = scan(1, 1, 1);  // two-sided: not an end
+  EXPECT_EQ(ends.judge(middle, VisibilityConfig{}, kFreeSpaceRule, 0.2), 0u);
+  ScoredScan first = scan(0, 0, 2);
+  EXPECT_EQ(ends.judge(first, VisibilityConfig{}, kFreeSpaceRule, 0.2), 400u);
+  // The first scans are gone now: judged again, scan 0 is no longer at hand.
+  ScoredScan again = scan(0, 0, 2);
+  EXPECT_EQ(ends.judge(again, VisibilityConfig{}, kFreeSpaceRule, 0.2), 0u);
+  ScoredScan last = scan(2, 2, 0);
+  EXPECT_EQ(ends.judge(last, VisibilityConfig{}, kFreeSpaceRule, 0.2), 400u);
 }
 
 }  // namespace

@@ -35,7 +35,10 @@ TEST(VisibilityAround, CountsTheCellsOfInterestAsTheWholeMapDoes) {
     const Eigen::Vector3d origin(0.5 * s, 0.0, 1.7);
     scans.push_back(street_scan(origin, s < 4, rng));
   }
-  for (int s = 0; s < 9; ++s) views.push_back({&scans[static_cast<std::size_t>(s)], Eigen::Vector3d(0.5 * s, 0.0, 1.7)});
+  for (int s = 0; s < 9; ++s) {
+    const Eigen::Vector3d origin(0.5 * s, 0.0, 1.7);
+    views.push_back({&scans[static_cast<std::size_t>(s)], nullptr, origin, SweepOrigin{origin}});
+  }
   VisibilityConfig config;
   VisibilityMap full(config);
   for (const auto& v : views) full.add_hits(*v.points, v.origin);
