@@ -217,11 +217,8 @@ void PipelineRun::score(PipelineItem& item) {
   std::vector<ScoredScan> ready;
   for (auto& s : scored) append(ready, tracker.push(std::move(s)));
   if (last) append(ready, tracker.finish());
-  for (auto& r : ready) {
-    if (ends && (r.scans_before == 0 || r.scans_after == 0)) {
-      ends_vetoed += ends->judge(r, visibility_config(cfg), cfg.mapping.free_space_objects,
-                                 cfg.mapping.free_space_voxel);
-    }
+  for (auto& r : ready) {  // the stream's first and last scan (judge passes over the rest)
+    if (ends) ends_vetoed += ends->judge(r, visibility_config(cfg), cfg.mapping.free_space_objects, cfg.mapping.free_space_voxel);
   }
   if (last && ready.size() > 1) {  // the rest leaves with the flush items
     std::move(ready.begin() + 1, ready.end(), std::back_inserter(held));

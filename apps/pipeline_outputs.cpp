@@ -179,7 +179,7 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
                              {"floor_cells", floor.size()}};
   }
   if (ends) {
-    summary["stream_ends"] = {{"scans_kept", 2 * cfg.scorer.window_half + 1},
+    summary["stream_ends"] = {{"scans_kept", ends->keep()},
                               {"vetoed_points", ends_vetoed}};
   }
   summary["tracked_points"] = tracked;

@@ -22,6 +22,7 @@ namespace cleanmap::app {
 class StreamEnds {
  public:
   explicit StreamEnds(std::size_t keep) : keep_(keep) {}
+  std::size_t keep() const { return keep_; }
   // A scan as the scorer receives it (world frame), in the same order (the n-th call is
   // ScoredScan::index n), with its entry of the run's poses; one without a pose is left out.
   void add(const Scan& world, const StampedPose& pose);

@@ -13,17 +13,10 @@ namespace {
 
 using CellSet3 = tsl::robin_set<VoxelKey, VoxelKeyHash>;
 
-// The cells of `points`, grown by `grow` cells on every side.
-CellSet3 cells_of(const Eigen::Matrix3Xf& points, double inv, int grow) {
+// The cells of `points`.
+CellSet3 cells_of(const Eigen::Matrix3Xf& points, double inv) {
   CellSet3 cells;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    const VoxelKey k = voxel_of(points.col(i), inv);
-    for (int dx = -grow; dx <= grow; ++dx) {
-      for (int dy = -grow; dy <= grow; ++dy) {
-        for (int dz = -grow; dz <= grow; ++dz) cells.insert({k.x + dx, k.y + dy, k.z + dz});
-      }
-    }
-  }
+  for (Eigen::Index i = 0; i < points.cols(); ++i) cells.insert(voxel_of(points.col(i), inv));
   return cells;
 }
 
@@ -74,19 +67,13 @@ class DirectionBins {
   std::vector<float> near_;
 };
 
-Eigen::Matrix3Xf columns(const Eigen::Matrix3Xf& m, const std::vector<Eigen::Index>& keep) {
-  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(keep.size()));
-  for (std::size_t j = 0; j < keep.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = m.col(keep[j]);
-  return out;
-}
-
 }  // namespace
 
 VisibilityMap visibility_around(const Eigen::Matrix3Xf& around, const std::vector<ScanView>& scans,
                                 const VisibilityConfig& config) {
   VisibilityMap map(config);
   const double res = config.resolution, inv = 1.0 / res;
-  const CellSet3 target = cells_of(around, inv, 0);
+  const CellSet3 target = cells_of(around, inv);
   // A ray crosses a cell when it passes within its half diagonal of the centre; one more cell
   // covers the ray's start a margin short of its point and its subsampling to one point per
   // cell, and the sensor's travel over the sweep covers rays cast from where it was then.
@@ -111,11 +98,8 @@ VisibilityMap visibility_around(const Eigen::Matrix3Xf& around, const std::vecto
       if (bins.reaches(p.col(i).cast<double>() - v.origin)) reach.push_back(i);
     }
     map.add_hits(p, v.origin);
-    rays[s] = columns(p, reach);
-    if (timed) {
-      ray_times[s].resize(static_cast<Eigen::Index>(reach.size()));
-      for (std::size_t j = 0; j < reach.size(); ++j) ray_times[s][static_cast<Eigen::Index>(j)] = (*v.times)[reach[j]];
-    }
+    rays[s] = p(Eigen::all, reach);
+    if (timed) ray_times[s] = (*v.times)(reach);
   }
   map.fit_surfaces();
   for (std::size_t s = 0; s < scans.size(); ++s) map.count(map.cast(rays[s], ray_times[s], scans[s].sensor));
