@@ -43,16 +43,18 @@ VisibilityConfig visibility_config(const PipelineConfig& cfg) {
   return v;
 }
 
-// Pass 1 (offline) or the only pass (online): four stages on consecutive scans at once (TBB
-// pipeline, each stage in order): read + pose, scoring, mapping (offline: the visibility map's
-// hits), writing (offline: a spill per scan). Each stage owns its part of `run`.
+// Pass 1 (offline) or the only pass (online): five stages on consecutive scans at once (TBB
+// pipeline, each stage in order): read + pose, the scorer's preparation, scoring, mapping
+// (offline: the visibility map's hits), writing (offline: a spill per scan). Each stage owns
+// its part of `run`. Preparing apart from scoring lets one scan's downsampling and ground run
+// beside the scoring of the scan before it: scoring was the stage every other one waited for.
 void first_pass(PipelineRun& run, Progress& progress) {
   std::size_t next = 0, scans_done = 0;
   std::size_t flushes_left = static_cast<std::size_t>(run.cfg.scorer.window_half) * (run.cfg.scorer.tracks.enabled ? 2 : 1);
   const std::size_t n = run.seq.size();
   StageFailure failure;
   run_pipeline_stages(
-      4, failure,
+      5, failure,
       guarded_filter<void, std::shared_ptr<PipelineItem>>(
           tbb::filter_mode::serial_in_order, failure,
           [&](tbb::flow_control& fc) -> std::shared_ptr<PipelineItem> {
@@ -69,6 +71,12 @@ void first_pass(PipelineRun& run, Progress& progress) {
             item->flushes_after = --flushes_left;
             return item;
           }) &
+          guarded_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
+              tbb::filter_mode::serial_in_order, failure,
+              [&](std::shared_ptr<PipelineItem> item) {
+                if (!item->flush) run.prepare(*item);
+                return item;
+              }) &
           guarded_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
               tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<PipelineItem> item) {
@@ -105,6 +113,8 @@ void first_pass(PipelineRun& run, Progress& progress) {
                                       run.seq.size() > spilled ? run.seq.size() - spilled : 0);
                   } else {
                     run.write_scan(r, labels);
+                    std::lock_guard<std::mutex> lock(run.loaded_mutex);
+                    run.latency.push_back(since(run.loaded_at[r.index]));
                   }
                   // Counts scans through the last stage: the first stage ran a window ahead
                   // ("30/30 scans, ETA 0 s" while 10 were still being scored).
@@ -166,6 +176,10 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   auto item = std::make_shared<PipelineItem>();
   item->index = index;
   auto t = Clock::now();
+  {
+    std::lock_guard<std::mutex> lock(loaded_mutex);
+    loaded_at.push_back(t);
+  }
   const bool primed = index == 1 && second.has_value();
   LoadedScan loaded = primed ? std::move(*second) : load_scan(seq, index);
   if (primed) second.reset();
@@ -206,13 +220,19 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   return item;
 }
 
+void PipelineRun::prepare(PipelineItem& item) {
+  const auto t = Clock::now();
+  item.prepared = scorer.prepare(std::move(item.world));
+  preparing_s += since(t);
+}
+
 void PipelineRun::score(PipelineItem& item) {
   const auto t = Clock::now();
   waiting[item.index] = std::move(item.labels);
   // Scorer, then tracker; at the log's end both hand over what they hold.
   const bool last = item.index + 1 == seq.size();
-  if (ends) ends->add(item.world, item.stamped);
-  auto scored = scorer.push(std::move(item.world));
+  if (ends) ends->add(item.prepared.scan(), item.stamped);
+  auto scored = scorer.push(std::move(item.prepared));
   if (last) append(scored, scorer.finish());
   std::vector<ScoredScan> ready;
   for (auto& s : scored) append(ready, tracker.push(std::move(s)));

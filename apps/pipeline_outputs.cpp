@@ -189,7 +189,7 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
                               {"crop_box", !mask.crop_box.empty()}, {"note", mask.note}};
   summary["seconds"] = seconds;
   summary["scans_per_second"] = seconds > 0 ? static_cast<double>(seq.size()) / seconds : 0.0;
-  nlohmann::json stages{{"read", read_s}, {"odometry", odometry_s}, {"scoring", scoring_s}, {"mapping", mapping_s},
+  nlohmann::json stages{{"read", read_s}, {"odometry", odometry_s}, {"scoring", preparing_s + scoring_s}, {"mapping", mapping_s},
                         {"write", write_s}};
   if (offline) {
     stages["visibility"] = visibility_s + rays_s;
@@ -204,6 +204,15 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
   if (!offline && finished_at.size() >= 3) {
     const double span = std::chrono::duration<double>(finished_at[finished_at.size() - 2] - finished_at[0]).count();
     summary["sustained_scans_per_second"] = span > 0 ? static_cast<double>(finished_at.size() - 2) / span : 0.0;
+  }
+  // Input to labels written, per scan (online): the window's delay (N scans) plus the work.
+  // Read from a file, input arrives as fast as stage 1 takes it, so this is the run's own
+  // delay; a live sensor adds N / rate_hz of waiting for the window's future scans.
+  if (!offline && !latency.empty()) {
+    auto sorted = latency;
+    std::sort(sorted.begin(), sorted.end());
+    const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5)]; };
+    summary["latency_seconds"] = {{"median", at(0.5)}, {"p95", at(0.95)}, {"max", sorted.back()}};
   }
   summary["per_scan"] = per_scan;
   if (seq.has_labels()) summary["moving"] = metrics_json(total);

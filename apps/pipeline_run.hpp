@@ -41,6 +41,7 @@ struct PipelineItem {
   bool flush = false;             // after the log: carries one of the scans held at its end
   std::size_t flushes_after = 0;  // flush items still to come after this one
   Scan world;
+  PreparedScan prepared;  // `world`, prepared for the scorer (stage 2)
   StampedPose stamped;  // its entry of the run's poses (stage 1 writes it, stage 2 reads it)
   std::vector<std::uint32_t> labels;
   std::vector<std::pair<ScoredScan, std::vector<std::uint32_t>>> scored;
@@ -53,15 +54,18 @@ struct PipelineRun {
   void describe(nlohmann::json& summary) const;
   // Stage 1: read scan `index`, mask the platform, pose it (odometry, given poses, VIEWPOINT).
   std::shared_ptr<PipelineItem> load(std::size_t index);
-  // Stage 2: scorer then tracker; what they release joins the item with its labels.
+  // Stage 2: the scorer's preparation of the scan (downsampling, ground, its cells), beside
+  // stage 3's scoring of the scan before it.
+  void prepare(PipelineItem& item);
+  // Stage 3: scorer then tracker; what they release joins the item with its labels.
   void score(PipelineItem& item);
   void flush(PipelineItem& item);  // a flush item takes one held scan (the last, all left)
-  // Stage 3: the occupancy opinion, then the static points into the map, rays cast from where
+  // Stage 4: the occupancy opinion, then the static points into the map, rays cast from where
   // the sensor was (`sensor`, known once the log's poses are: pass 2) or from the scan's pose.
   void map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sensor = std::nullopt);
   // The scorer's dynamic points leave the odometry's local map (`exclude_dynamic`).
   void feed_back(const ScoredScan& r);
-  // Stage 4: per-scan files, map clouds, metrics.
+  // Stage 5: per-scan files, map clouds, metrics.
   void write_scan(ScoredScan& r, const std::vector<std::uint32_t>& gt);
   // After the passes: the map files, the pose files and the summary's figures.
   void write_maps();
@@ -100,9 +104,14 @@ struct PipelineRun {
   std::size_t masked = 0, points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0,
               tracked = 0, void_added = 0, void_vetoed = 0, ends_vetoed = 0;
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
-  double read_s = 0, odometry_s = 0, scoring_s = 0, mapping_s = 0, write_s = 0, visibility_s = 0, rays_s = 0,
+  double read_s = 0, odometry_s = 0, preparing_s = 0, scoring_s = 0, mapping_s = 0, write_s = 0, visibility_s = 0, rays_s = 0,
          judging_s = 0;
   std::vector<Clock::time_point> finished_at;  // when each input scan that released output was written
+  // Online latency: when each scan's reading began (stage 1) and how long until its labels were
+  // written (stage 4), input order. Stage 1 appends, stage 4 reads an entry already written.
+  std::deque<Clock::time_point> loaded_at;
+  std::mutex loaded_mutex;
+  std::vector<double> latency;
 };
 
 }  // namespace cleanmap::app

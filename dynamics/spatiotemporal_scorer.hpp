@@ -33,6 +33,15 @@ struct ScoredScan {
   std::vector<std::uint8_t> on_moving_track;
 };
 
+struct WindowScan;  // a scan reduced to what its window needs (spatiotemporal_scorer.cpp)
+
+// A scan prepared for the window (SpatiotemporalScorer::prepare): downsampled, its ground
+// found and its cells' statistics summed, not yet in the window.
+struct PreparedScan {
+  std::shared_ptr<WindowScan> data;
+  const Scan& scan() const;  // as given to prepare
+};
+
 // Streaming spatiotemporal-normal scorer (Falque, Le Gentil, Sukkar, ACRA 2023) over a sliding
 // window of 2N+1 registered scans. Scan i is scored once scan i+N has been pushed, so results
 // come out N scans late; the first N+1 scans wait for scan 2N (a one-sided window of full
@@ -48,6 +57,13 @@ class SpatiotemporalScorer {
   // relative to `stamp` if known (else every point is at `stamp`). Returns the scans whose
   // scores became final (zero or one).
   std::vector<ScoredScan> push(Scan scan);
+
+  // push() in two steps, so that a pipeline can prepare one scan (downsampling, ground, its
+  // cells' statistics: a third of the scorer's time on the Pandar64 street) while the scan
+  // before it is scored. prepare() must see the scans in push order, and may run in another
+  // thread than push() at the same time (they share only the configuration).
+  PreparedScan prepare(Scan scan);
+  std::vector<ScoredScan> push(PreparedScan scan);
 
   // Scores every scan still waiting for its future neighbours. The scorer is empty afterwards.
   std::vector<ScoredScan> finish();

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -80,12 +81,71 @@ void paper_rule(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
   });
 }
 
+void nearest_by_grid(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down, const std::vector<std::int32_t>& owner,
+                     const PointDecisions& d, double radius, double voxel, PointDecisions& out) {
+  const auto nn = nearest_on_voxels(full, down, owner, voxel);
+  const float r_sq = static_cast<float>(radius * radius);
+  for (std::size_t i = 0; i < nn.size(); ++i) {
+    const auto k = static_cast<std::size_t>(nn[i]);
+    if ((down.col(nn[i]) - full.col(static_cast<Eigen::Index>(i))).squaredNorm() > r_sq) continue;
+    out.score[i] = d.score[k];
+    out.dynamic[i] = d.dynamic[k];
+  }
+}
+
 }  // namespace
+
+std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
+                                            const std::vector<std::int32_t>& owner, double voxel) {
+  const double inv = 1.0 / voxel;
+  tsl::robin_map<VoxelKey, std::int32_t, VoxelKeyHash> at;
+  at.reserve(static_cast<std::size_t>(down.cols()));
+  for (Eigen::Index k = 0; k < down.cols(); ++k) at.emplace(voxel_of(down.col(k), inv), static_cast<std::int32_t>(k));
+  std::vector<std::int32_t> nn(owner);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nn.size(), 1024), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Eigen::Vector3f p = full.col(static_cast<Eigen::Index>(i));
+      float best = (down.col(nn[i]) - p).squaredNorm();
+      if (best == 0.0f) continue;  // the point stands for its voxel itself
+      const VoxelKey c = voxel_of(p, inv);
+      const Eigen::Vector3d frac = p.cast<double>() * inv - Eigen::Vector3d(c.x, c.y, c.z);
+      // A voxel is skipped only when its box is clearly farther than the best so far (in
+      // voxels, with a margin for the float distance's rounding). Per axis, the squared gap
+      // to the voxels -2..2 away; the offsets within the limit on each axis span a small box.
+      const double limit = static_cast<double>(best) * inv * inv * (1.0 + 1e-5) + 1e-12;
+      std::array<std::array<double, 5>, 3> gap{};
+      std::array<int, 3> lo{}, hi{};
+      for (int a = 0; a < 3; ++a) {
+        for (int o = -2; o <= 2; ++o) {
+          const double g = o > 0 ? o - frac[a] : o < 0 ? -o - 1.0 + frac[a] : 0.0;
+          gap[a][o + 2] = g > 0 ? g * g : 0.0;
+        }
+        lo[a] = gap[a][0] <= limit ? -2 : gap[a][1] <= limit ? -1 : 0;
+        hi[a] = gap[a][4] <= limit ? 2 : gap[a][3] <= limit ? 1 : 0;
+      }
+      for (int x = lo[0]; x <= hi[0]; ++x) {
+        for (int y = lo[1]; y <= hi[1]; ++y) {
+          for (int z = lo[2]; z <= hi[2]; ++z) {
+            if ((x == 0 && y == 0 && z == 0) || gap[0][x + 2] + gap[1][y + 2] + gap[2][z + 2] > limit) continue;
+            const auto it = at.find({c.x + x, c.y + y, c.z + z});
+            if (it == at.end()) continue;
+            const float dist = (down.col(it->second) - p).squaredNorm();
+            if (dist < best || (dist == best && it->second < nn[i])) {
+              best = dist;
+              nn[i] = it->second;
+            }
+          }
+        }
+      }
+    }
+  });
+  return nn;
+}
 
 PointDecisions upsample_scores(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
                                const std::vector<std::int32_t>& owner, const PointDecisions& d,
                                const std::string& method, double radius,
-                               const std::vector<std::uint8_t>& keeps_own) {
+                               const std::vector<std::uint8_t>& keeps_own, double voxel_size) {
   const auto n = static_cast<std::size_t>(full.cols());
   PointDecisions out;
   out.score.assign(n, std::numeric_limits<float>::quiet_NaN());
@@ -93,6 +153,8 @@ PointDecisions upsample_scores(const Eigen::Matrix3Xf& full, const Eigen::Matrix
   if (down.cols() == 0) return out;
   if (method == "paper") {
     paper_rule(full, down, owner, d, radius, keeps_own, out);
+  } else if (voxel_size > 0 && owner.size() == n) {
+    nearest_by_grid(full, down, owner, d, radius, voxel_size, out);
   } else {
     nearest_rule(full, down, d, radius, out);
   }

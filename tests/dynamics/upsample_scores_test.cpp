@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "geometry/voxel_downsample.hpp"
@@ -55,6 +56,32 @@ TEST(UpsampleScores, NearestRuleTakesTheNearestWithinTheRadius) {
   EXPECT_FLOAT_EQ(out.score[1], 0.9f);
   EXPECT_EQ(out.dynamic[1], 1);
   EXPECT_TRUE(std::isnan(out.score[2]));  // nothing within the radius
+}
+
+// The voxel grid's nearest neighbour is the brute-force one, at every distance: points on a
+// surface (many share a voxel) and scattered ones (mostly alone), negative coordinates too.
+TEST(UpsampleScores, NearestOnVoxelsIsTheBruteForceNearest) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+  Eigen::Matrix3Xf full(3, 6000);
+  for (Eigen::Index i = 0; i < full.cols(); ++i) {
+    const float z = i % 2 ? u(rng) : 0.05f * u(rng);
+    full.col(i) = Eigen::Vector3f(u(rng), u(rng), z);
+  }
+  for (const double voxel : {0.1, 0.37}) {
+    const auto sample = voxel_downsample_with_owners(full, voxel);
+    Eigen::Matrix3Xf down = full(Eigen::all, sample.keep);
+    const auto nn = nearest_on_voxels(full, down, sample.owner, voxel);
+    std::size_t moved = 0;
+    for (Eigen::Index i = 0; i < full.cols(); ++i) {
+      float best = std::numeric_limits<float>::infinity();
+      for (Eigen::Index k = 0; k < down.cols(); ++k) best = std::min(best, (down.col(k) - full.col(i)).squaredNorm());
+      const auto s = static_cast<std::size_t>(i);
+      EXPECT_EQ((down.col(nn[s]) - full.col(i)).squaredNorm(), best) << "point " << i << ", voxel " << voxel;
+      moved += nn[s] != sample.owner[s];
+    }
+    EXPECT_GT(moved, 30u);  // the owner is often not the nearest: the search is exercised
+  }
 }
 
 TEST(UpsampleScores, PointsOnTheFloorKeepTheirOwnDecision) {
