@@ -17,22 +17,34 @@ std::vector<std::int32_t> clusters_from_seeds(const Eigen::Matrix3Xf& points,
     if (include[k]) members.push_back(static_cast<std::int32_t>(k));
   }
   const RadiusGrid index(points, members, radius);
+  // Members of each cube still without a cluster: a flood fill skips the cubes it has taken
+  // whole, whose points it would only find labelled (the same clusters, found in the same
+  // order). On walls of 0.1 m points a search meets hundreds of points, nearly all labelled.
+  std::vector<std::uint32_t> open(index.cubes());
+  for (std::uint32_t c = 0; c < open.size(); ++c) open[c] = index.cube_size(c);
+  const auto take = [&](std::uint32_t m, std::int32_t cluster) {
+    id[static_cast<std::size_t>(members[m])] = cluster;
+    --open[index.cube_of(m)];
+  };
   std::int32_t next = 0;
   std::vector<std::int32_t> stack;
-  for (const auto k : members) {
+  for (std::uint32_t m = 0; m < members.size(); ++m) {
+    const auto k = members[m];
     if (!seed[static_cast<std::size_t>(k)] || id[static_cast<std::size_t>(k)] >= 0) continue;
-    id[static_cast<std::size_t>(k)] = next;
+    take(m, next);
     stack.assign(1, k);
     while (!stack.empty()) {
       const auto j = stack.back();
       stack.pop_back();
-      index.for_each_within(points.col(j), [&](std::uint32_t m, float) {
-        const auto q = static_cast<std::size_t>(members[m]);
-        if (id[q] < 0) {
-          id[q] = next;
-          stack.push_back(static_cast<std::int32_t>(q));
-        }
-      });
+      index.for_each_within(
+          points.col(j), [&](std::uint32_t cube) { return open[cube] == 0; },
+          [&](std::uint32_t n, float) {
+            const auto q = static_cast<std::size_t>(members[n]);
+            if (id[q] < 0) {
+              take(n, next);
+              stack.push_back(static_cast<std::int32_t>(q));
+            }
+          });
     }
     ++next;
   }

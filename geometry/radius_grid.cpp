@@ -7,7 +7,8 @@ RadiusGrid::RadiusGrid(const Eigen::Matrix3Xf& points, const std::vector<std::in
     // every axis even where p / cell rounds up across a cube's border.
     : inv_cell_(1.0 / (static_cast<double>(radius) * (1.0 + 1e-6))), radius_sq_(radius * radius) {
   const std::size_t n = members.size();
-  std::vector<std::uint32_t> cube(n);
+  std::vector<std::uint32_t>& cube = cube_;
+  cube.resize(n);
   std::vector<std::uint32_t> count;
   cells_.reserve(n / 4);
   for (std::size_t m = 0; m < n; ++m) {

@@ -25,12 +25,19 @@ class RadiusGrid {
   // Calls fn(m, squared_distance) for every member strictly within the radius of q.
   template <typename Fn>
   void for_each_within(const Eigen::Vector3f& q, Fn&& fn) const {
+    for_each_within(q, [](std::uint32_t) { return false; }, fn);
+  }
+
+  // The same, but the members of a cube for which skip(cube) is true are not visited
+  // (cube_of(m) names a member's cube; cubes() counts them).
+  template <typename Skip, typename Fn>
+  void for_each_within(const Eigen::Vector3f& q, Skip&& skip, Fn&& fn) const {
     const VoxelKey c = voxel_of(q, inv_cell_);
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dz = -1; dz <= 1; ++dz) {
           const auto it = cells_.find(VoxelKey{c.x + dx, c.y + dy, c.z + dz});
-          if (it == cells_.end()) continue;
+          if (it == cells_.end() || skip(it->second)) continue;
           for (std::uint32_t k = start_[it->second]; k < start_[it->second + 1]; ++k) {
             float dist = 0.0f;
             for (int d = 0; d < 3; ++d) {
@@ -44,6 +51,10 @@ class RadiusGrid {
     }
   }
 
+  std::uint32_t cube_of(std::uint32_t m) const { return cube_[m]; }
+  std::size_t cubes() const { return start_.size() - 1; }
+  std::uint32_t cube_size(std::uint32_t cube) const { return start_[cube + 1] - start_[cube]; }
+
  private:
   double inv_cell_;
   float radius_sq_;
@@ -51,6 +62,7 @@ class RadiusGrid {
   std::vector<std::uint32_t> start_;   // per cube, then the end
   Eigen::Matrix3Xf sorted_;            // the members' points, cube by cube
   std::vector<std::uint32_t> member_;  // position in `members` of each sorted point
+  std::vector<std::uint32_t> cube_;    // per member, its cube
 };
 
 }  // namespace cleanmap
