@@ -151,6 +151,39 @@ TEST(SpatiotemporalScorer, FastStatisticsMatchRecomputationAfterManyCycles) {
   EXPECT_LT(scorer.fast_statistics_drift(), 1e-8);
 }
 
+// Preparing every scan ahead of pushing it (a pipeline prepares scan i+1 while scan i is
+// scored) gives the scores of push(Scan), bit for bit; a prepared scan pushed out of its order
+// is refused.
+TEST(SpatiotemporalScorer, ScansPreparedAheadScoreAsScansPushedWhole) {
+  const auto cfg = analytic_config("fast");
+  SpatiotemporalScorer whole(cfg), split(cfg);
+  std::vector<PreparedScan> prepared;
+  std::vector<ScoredScan> a, b;
+  for (int k = 0; k < 9; ++k) {
+    const Scan s = plane_scan(0.1 * k, Eigen::Vector3d(1, 0.2, 0), Eigen::Vector3d(0.5, 0, 0));
+    for (auto& r : whole.push(s)) a.push_back(std::move(r));
+    prepared.push_back(split.prepare(s));
+  }
+  for (auto& p : prepared) {
+    for (auto& r : split.push(std::move(p))) b.push_back(std::move(r));
+  }
+  for (auto& r : whole.finish()) a.push_back(std::move(r));
+  for (auto& r : split.finish()) b.push_back(std::move(r));
+  ASSERT_EQ(a.size(), 9u);
+  ASSERT_EQ(b.size(), 9u);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].dynamic, b[k].dynamic);
+    ASSERT_EQ(a[k].score.size(), b[k].score.size());
+    for (std::size_t i = 0; i < a[k].score.size(); ++i) {
+      EXPECT_TRUE(a[k].score[i] == b[k].score[i] || (std::isnan(a[k].score[i]) && std::isnan(b[k].score[i])));
+    }
+  }
+  SpatiotemporalScorer order(cfg);
+  auto first = order.prepare(plane_scan(0.0, Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero()));
+  auto second = order.prepare(plane_scan(0.1, Eigen::Vector3d(1, 0, 0), Eigen::Vector3d::Zero()));
+  EXPECT_THROW(order.push(std::move(second)), std::logic_error);
+}
+
 TEST(SpatiotemporalScorer, EveryScanIsScoredOnceWithTheWindowThatExists) {
   ScorerConfig cfg = analytic_config("fast");
   SpatiotemporalScorer scorer(cfg);
