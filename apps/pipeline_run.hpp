@@ -35,7 +35,7 @@ using Clock = std::chrono::steady_clock;
 inline double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // One scan (or, after the log, one of the scans the scorer and tracker still hold) on its way
-// through the four stages.
+// through the five stages.
 struct PipelineItem {
   std::size_t index = 0;
   bool flush = false;             // after the log: carries one of the scans held at its end
