@@ -14,7 +14,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "cleanmap 0.1.0");
   int threads = 0;
-  app.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  // At most 1024: TBB gives every worker its own stack and arena slot up front, and 2^31 of them
+  // ended in std::bad_alloc (issue 45); no machine this runs on has more hardware threads.
+  app.add_option("--threads", threads, "Worker threads (0 = all cores), in [0, 1024]")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
   cleanmap::app::register_demo(app);
   cleanmap::app::register_score(app);
   cleanmap::app::register_odometry(app);

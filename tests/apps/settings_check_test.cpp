@@ -49,6 +49,18 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
   EXPECT_NE(r.output.find("--beams: must be in [1, 1024], not 100000"), std::string::npos) << r.output;
 }
 
+// --threads 2147483647 asked TBB for 2^31 workers and ended in std::bad_alloc: refused while
+// parsing, naming the option and its range.
+TEST(SettingsCheck, ThreadsBeyondAnyMachineAreRefusedByName) {
+  test::TempDir dir;
+  const auto r = run("--threads 2147483647 demo --generate-only --scans 2 --out " + (dir / "demo").string());
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1024"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "demo" / "sequence"));
+}
+
 TEST(SettingsCheck, EvaluationsRefuseWhatTheyCannotMeasure) {
   test::TempDir dir;
   std::ofstream(dir / "one.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
