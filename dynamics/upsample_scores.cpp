@@ -3,6 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <atomic>
+#include <climits>
 #include <cmath>
 #include <limits>
 
@@ -102,7 +104,27 @@ std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full, const 
   at.reserve(static_cast<std::size_t>(down.cols()));
   for (Eigen::Index k = 0; k < down.cols(); ++k) at.emplace(voxel_of(down.col(k), inv), static_cast<std::int32_t>(k));
   std::vector<std::int32_t> nn(owner);
+  static std::atomic<std::uint64_t> calls{0};
+  const std::uint64_t call = ++calls;  // names this table in the threads' caches
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nn.size(), 1024), [&](const auto& range) {
+    // Points come in firing order, so a point's neighbouring voxels were most often asked for
+    // a few points before: those answers (-1: no downsampled point there), direct-mapped into
+    // 64 kB, come before the table, whose look-ups miss the cache.
+    constexpr int kBits = 12;
+    thread_local std::vector<std::pair<VoxelKey, std::int32_t>> recent;
+    thread_local std::uint64_t recent_call = 0;
+    if (recent_call != call) {  // a new table: forget the last one's answers
+      recent.assign(std::size_t{1} << kBits, {VoxelKey{INT32_MIN, INT32_MIN, INT32_MIN}, -1});
+      recent_call = call;
+    }
+    const auto lookup = [&](const VoxelKey& key) {
+      auto& r = recent[(packed_key(key) * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
+      if (!(r.first == key)) {
+        const auto it = at.find(key);
+        r = {key, it == at.end() ? -1 : it->second};
+      }
+      return r.second;
+    };
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Eigen::Vector3f p = full.col(static_cast<Eigen::Index>(i));
       float best = (down.col(nn[i]) - p).squaredNorm();
@@ -127,12 +149,12 @@ std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full, const 
         for (int y = lo[1]; y <= hi[1]; ++y) {
           for (int z = lo[2]; z <= hi[2]; ++z) {
             if ((x == 0 && y == 0 && z == 0) || gap[0][x + 2] + gap[1][y + 2] + gap[2][z + 2] > limit) continue;
-            const auto it = at.find({c.x + x, c.y + y, c.z + z});
-            if (it == at.end()) continue;
-            const float dist = (down.col(it->second) - p).squaredNorm();
-            if (dist < best || (dist == best && it->second < nn[i])) {
+            const std::int32_t k = lookup({c.x + x, c.y + y, c.z + z});
+            if (k < 0) continue;
+            const float dist = (down.col(k) - p).squaredNorm();
+            if (dist < best || (dist == best && k < nn[i])) {
               best = dist;
-              nn[i] = it->second;
+              nn[i] = k;
             }
           }
         }
