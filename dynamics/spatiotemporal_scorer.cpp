@@ -10,6 +10,7 @@
 #include <deque>
 #include <limits>
 #include <stdexcept>
+#include "dynamics/cell_neighbourhood.hpp"
 #include "dynamics/cell_table.hpp"
 #include "dynamics/euclidean_clusters.hpp"
 #include "dynamics/ground_segmentation.hpp"
@@ -47,28 +48,6 @@ struct WindowScan {
 
 const Scan& PreparedScan::scan() const { return data->full; }
 
-void validate(const ScorerConfig& c) {
-  auto bad = [](const std::string& what) { throw Error("scorer: " + what); };
-  if (c.voxel_size < 0) bad("voxel_size must be >= 0 (0 = relative to the scan's size)");
-  if (c.voxel_size == 0 && !(c.voxel_divisor > 0)) bad("voxel_divisor must be positive");
-  if (c.window_half < 0) bad("window_half must be >= 0");
-  if (!(c.radius > 0)) bad("radius must be positive");
-  if (!std::isfinite(c.pose_noise) || c.pose_noise < 0) bad("pose_noise must be >= 0 (metres)");
-  if (!std::isfinite(c.pose_noise_deg) || c.pose_noise_deg < 0) bad("pose_noise_deg must be >= 0");
-  if (!(c.time_scale > 0)) bad("time_scale must be positive");
-  if (c.max_eigen_ratio < 0 || c.max_eigen_ratio > 1) bad("max_eigen_ratio must be in [0, 1]");
-  if (c.min_neighbors < 4) bad("min_neighbors must be at least 4 (a 4D PCA needs them)");
-  if (c.mode != "fast" && c.mode != "exact") bad("mode must be 'fast' or 'exact', not '" + c.mode + "'");
-  if (c.upsample != "nearest" && c.upsample != "paper") {
-    bad("upsample must be 'nearest' or 'paper', not '" + c.upsample + "'");
-  }
-  if (c.cell_size < 0) bad("cell_size must be >= 0");
-  if (!(c.upsample_radius > 0)) bad("upsample_radius must be positive");
-  if (c.ground_aware) validate(c.ground);
-  if (c.object_completion || c.tracks.enabled) validate(c.objects, "scorer");
-  if (!std::isfinite(c.tracks.max_speed) || !(c.tracks.max_speed >= 0)) bad("track_max_speed must be >= 0");
-}
-
 // A pose error fakes motion up to this many standard deviations (99.7%).
 constexpr double kPoseNoiseSigmas = 3.0;
 
@@ -105,10 +84,6 @@ struct SpatiotemporalScorer::Impl {
     }
   }
 
-  Eigen::Vector4d cell_origin(const VoxelKey& k) const {
-    return {(k.x + 0.5) * cell, (k.y + 0.5) * cell, (k.z + 0.5) * cell, 0.0};
-  }
-
   Eigen::Vector4d sample(const WindowScan& w, Eigen::Index i) const {
     Eigen::Vector4d v;
     v.head<3>() = w.points.col(i).cast<double>();
@@ -130,7 +105,7 @@ struct SpatiotemporalScorer::Impl {
       const auto g = w.ground[static_cast<std::size_t>(i)];
       const auto [it, fresh] = slot[g].try_emplace(key, static_cast<std::uint32_t>(out[g].size()));
       if (fresh) out[g].emplace_back(key, Moments4{});
-      out[g][it->second].second.add(sample(w, i) - cell_origin(key));
+      out[g][it->second].second.add(sample(w, i) - cell_origin(key, cell));
       if (cell_of) (*cell_of)[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(it->second);
     }
     if (cell_of) {
@@ -188,77 +163,6 @@ struct SpatiotemporalScorer::Impl {
       w.cells = static_cast<std::int32_t>(w.own_cells[0].size() + w.own_cells[1].size());
     }
     return w;
-  }
-
-  // One query cell's neighbours in one ground class: every cell of `offsets` that holds
-  // points, with its moments already shifted to the query cell's origin. Covariances do not
-  // depend on the origin, so the points of one cell share these, and each only selects and
-  // adds them: per point, the look-ups and the shifts had been most of the scorer's time
-  // (perf on the Pandar64 street at 0.1 m voxels: 23 % of an online run in the per-point loop).
-  struct Near {
-    VoxelKey off;
-    Eigen::Vector3d mean;  // of the cell's points, world frame
-    Moments4 m;            // relative to the query cell's origin
-  };
-  void near_cells(const VoxelKey& centre, std::uint8_t g, double t, std::vector<Near>& out) const {
-    out.clear();
-    const auto& map = cells[g];
-    Eigen::Vector4d origin = cell_origin(centre);
-    origin[3] = t;
-    for (const auto& off : offsets) {
-      const VoxelKey key{centre.x + off.x, centre.y + off.y, centre.z + off.z};
-      const Moments4* c = map.find(key);
-      if (!c) continue;
-      const Eigen::Vector4d o = cell_origin(key);
-      out.push_back({off, o.head<3>() + c->sum.head<3>() / c->n, c->shifted(origin - o)});
-    }
-  }
-
-  // The query's moments from its cell's neighbours (near_cells), relative to the cell's origin:
-  // a cell takes part when its box reaches within the radius of the query and the mean of its
-  // points lies within the radius.
-  // `chosen`: bit j set when near[j] takes part (the first 64).
-  Moments4 neighbourhood_fast(const WindowScan& w, Eigen::Index i, const VoxelKey& centre,
-                              const std::vector<Near>& near, std::uint64_t& chosen) const {
-    const Eigen::Vector3d q = w.points.col(i).cast<double>();
-    const double r_sq = cfg.radius * cfg.radius;
-    // Where the query sits in its cell, in cells: skip cells whose box is beyond the radius.
-    const Eigen::Vector3d frac = q / cell - Eigen::Vector3d(centre.x, centre.y, centre.z);
-    const double r_cells_sq = r_sq / (cell * cell);
-    Moments4 m;
-    chosen = 0;
-    for (std::size_t j = 0; j < near.size(); ++j) {
-      const Near& c = near[j];
-      double gap_sq = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        const int o = d == 0 ? c.off.x : d == 1 ? c.off.y : c.off.z;
-        const double g = o > 0 ? o - frac[d] : o < 0 ? -o - 1.0 + frac[d] : 0.0;
-        gap_sq += g > 0 ? g * g : 0.0;
-      }
-      if (gap_sq > r_cells_sq) continue;
-      if ((c.mean - q).squaredNorm() > r_sq) continue;
-      m += c.m;
-      if (j < 64) chosen |= std::uint64_t{1} << j;
-    }
-    return m;
-  }
-
-  // The scan's points by statistics cell: `order` lists them cell by cell, cell c's points at
-  // order[start[c]] .. order[start[c + 1]].
-  struct CellGroups {
-    std::vector<std::int32_t> order, start;
-  };
-  static CellGroups cell_groups(const WindowScan& w) {
-    CellGroups out;
-    out.start.assign(static_cast<std::size_t>(w.cells) + 1, 0);
-    for (const auto c : w.cell_of) ++out.start[static_cast<std::size_t>(c) + 1];
-    for (std::size_t c = 1; c < out.start.size(); ++c) out.start[c] += out.start[c - 1];
-    out.order.resize(w.cell_of.size());
-    auto fill = out.start;
-    for (std::size_t i = 0; i < w.cell_of.size(); ++i) {
-      out.order[static_cast<std::size_t>(fill[static_cast<std::size_t>(w.cell_of[i])]++)] = static_cast<std::int32_t>(i);
-    }
-    return out;
   }
 
   Moments4 neighbourhood_exact(const WindowScan& w, Eigen::Index i) const {
@@ -324,13 +228,10 @@ struct SpatiotemporalScorer::Impl {
     return grid_components(w.points, include, cfg.objects.radius / 2);
   }
 
-  ScoredScan score(std::size_t index) {
-    const auto start = std::chrono::steady_clock::now();
-    WindowScan& w = window[index - window.front().index];
+  // Every downsampled point's score and decision (before objects): fast mode by statistics
+  // cell (cell_neighbourhood.hpp), exact mode by radius search in every scan of the window.
+  void decide_points(WindowScan& w, PointDecisions& d) const {
     const auto n = static_cast<std::size_t>(w.points.cols());
-    PointDecisions d;
-    d.score.resize(n);
-    d.dynamic.resize(n);
     const Eigen::Vector3f origin =
         w.full.pose ? Eigen::Vector3f(w.full.pose->translation().cast<float>()) : Eigen::Vector3f::Zero();
     const auto decide = [&](std::size_t i, const Moments4& m, float score) {
@@ -347,11 +248,11 @@ struct SpatiotemporalScorer::Impl {
         }
       });
     } else {
-      const CellGroups groups = cell_groups(w);
+      const CellGroups groups = cell_groups(w.cell_of, w.cells);
       w.cell_of = {};
       const double inv = 1.0 / cell;
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups.start.size() - 1, 32), [&](const auto& range) {
-        std::vector<Near> near;
+        std::vector<NearCell> near;
         // Points of one cell that take the same cells have the same moments, summed in the same
         // order: one eigen solve serves them all. The 4D eigen solve is the scorer's largest
         // cost (perf, online run on the Pandar64 street: 11.8 % of all samples); the points that
@@ -361,15 +262,15 @@ struct SpatiotemporalScorer::Impl {
           const auto first = static_cast<std::size_t>(groups.start[c]), last = static_cast<std::size_t>(groups.start[c + 1]);
           const auto i0 = static_cast<std::size_t>(groups.order[first]);
           // A group's points share their ground class (scan_cells groups by class and cell).
-          near_cells(voxel_of(w.points.col(static_cast<Eigen::Index>(i0)), inv), w.ground[i0],
-                     cfg.time_scale * w.time[static_cast<Eigen::Index>(i0)], near);
+          const VoxelKey centre = voxel_of(w.points.col(static_cast<Eigen::Index>(i0)), inv);
+          near_cells(cells[w.ground[i0]], offsets, cell, centre, cfg.time_scale * w.time[static_cast<Eigen::Index>(i0)], near);
           const bool memo = near.size() <= 64;
           solved.clear();
           for (std::size_t j = first; j < last; ++j) {
             const auto i = static_cast<std::size_t>(groups.order[j]);
             std::uint64_t chosen = 0;
-            const Moments4 m = neighbourhood_fast(w, static_cast<Eigen::Index>(i),
-                                                  voxel_of(w.points.col(static_cast<Eigen::Index>(i)), inv), near, chosen);
+            const Moments4 m = neighbourhood_of(w.points.col(static_cast<Eigen::Index>(i)).cast<double>(), centre, cell,
+                                                cfg.radius, near, chosen);
             const auto hit = std::find_if(solved.begin(), solved.end(), [&](const auto& e) { return e.first == chosen; });
             if (memo && hit != solved.end()) {
               decide(i, m, hit->second);
@@ -382,6 +283,16 @@ struct SpatiotemporalScorer::Impl {
         }
       });
     }
+  }
+
+  ScoredScan score(std::size_t index) {
+    const auto start = std::chrono::steady_clock::now();
+    WindowScan& w = window[index - window.front().index];
+    const auto n = static_cast<std::size_t>(w.points.cols());
+    PointDecisions d;
+    d.score.resize(n);
+    d.dynamic.resize(n);
+    decide_points(w, d);
     ScoredScan out;
     out.index = index;
     out.voxel_size = w.voxel;
