@@ -80,8 +80,10 @@ void first_pass(PipelineRun& run, Progress& progress) {
           guarded_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(
               tbb::filter_mode::serial_in_order, failure,
               [&](std::shared_ptr<PipelineItem> item) {
-                if (item->flush) run.flush(*item);
-                else run.score(*item);
+                if (item->flush)
+                  run.flush(*item);
+                else
+                  run.score(*item);
                 return item;
               }) &
           guarded_filter<std::shared_ptr<PipelineItem>, std::shared_ptr<PipelineItem>>(

@@ -189,7 +189,10 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
                               {"crop_box", !mask.crop_box.empty()}, {"note", mask.note}};
   summary["seconds"] = seconds;
   summary["scans_per_second"] = seconds > 0 ? static_cast<double>(seq.size()) / seconds : 0.0;
-  nlohmann::json stages{{"read", read_s}, {"odometry", odometry_s}, {"scoring", preparing_s + scoring_s}, {"mapping", mapping_s},
+  nlohmann::json stages{{"read", read_s},
+                        {"odometry", odometry_s},
+                        {"scoring", preparing_s + scoring_s},
+                        {"mapping", mapping_s},
                         {"write", write_s}};
   if (offline) {
     stages["visibility"] = visibility_s + rays_s;
@@ -211,7 +214,9 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
   if (!offline && !latency.empty()) {
     auto sorted = latency;
     std::sort(sorted.begin(), sorted.end());
-    const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5)]; };
+    const auto at = [&](double q) {
+      return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5)];
+    };
     summary["latency_seconds"] = {{"median", at(0.5)}, {"p95", at(0.95)}, {"max", sorted.back()}};
   }
   summary["per_scan"] = per_scan;

@@ -104,8 +104,8 @@ struct PipelineRun {
   std::size_t masked = 0, points = 0, dynamic_points = 0, unscored = 0, dropped = 0, free_space_added = 0,
               tracked = 0, void_added = 0, void_vetoed = 0, ends_vetoed = 0;
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
-  double read_s = 0, odometry_s = 0, preparing_s = 0, scoring_s = 0, mapping_s = 0, write_s = 0, visibility_s = 0, rays_s = 0,
-         judging_s = 0;
+  double read_s = 0, odometry_s = 0, preparing_s = 0, scoring_s = 0, mapping_s = 0, write_s = 0,
+         visibility_s = 0, rays_s = 0, judging_s = 0;
   std::vector<Clock::time_point> finished_at;  // when each input scan that released output was written
   // Online latency: when each scan's reading began (stage 1) and how long until its labels were
   // written (stage 4), input order. Stage 1 appends, stage 4 reads an entry already written.

@@ -2,8 +2,8 @@
 
 namespace cleanmap {
 
-void near_cells(const CellTable& table, const std::vector<VoxelKey>& offsets, double cell, const VoxelKey& centre,
-                double t, std::vector<NearCell>& out) {
+void near_cells(const CellTable& table, const std::vector<VoxelKey>& offsets, double cell,
+                const VoxelKey& centre, double t, std::vector<NearCell>& out) {
   out.clear();
   Eigen::Vector4d origin = cell_origin(centre, cell);
   origin[3] = t;
@@ -16,8 +16,8 @@ void near_cells(const CellTable& table, const std::vector<VoxelKey>& offsets, do
   }
 }
 
-Moments4 neighbourhood_of(const Eigen::Vector3d& q, const VoxelKey& centre, double cell, double radius,
-                          const std::vector<NearCell>& near, std::uint64_t& chosen) {
+Moments4 neighbourhood_of(const Eigen::Vector3d& q, const VoxelKey& centre, double cell,
+                          double radius, const std::vector<NearCell>& near, std::uint64_t& chosen) {
   const double r_sq = radius * radius;
   // Where the query sits in its cell, in cells: skip cells whose box is beyond the radius.
   const Eigen::Vector3d frac = q / cell - Eigen::Vector3d(centre.x, centre.y, centre.z);
@@ -48,7 +48,8 @@ CellGroups cell_groups(const std::vector<std::int32_t>& cell_of, std::int32_t ce
   out.order.resize(cell_of.size());
   auto fill = out.start;
   for (std::size_t i = 0; i < cell_of.size(); ++i) {
-    out.order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of[i])]++)] = static_cast<std::int32_t>(i);
+    out.order[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of[i])]++)] =
+        static_cast<std::int32_t>(i);
   }
   return out;
 }

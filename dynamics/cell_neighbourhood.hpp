@@ -30,14 +30,14 @@ struct NearCell {
 
 // Every cell `centre + offsets[k]` of `table` that holds points, shifted to the origin
 // (centre of `centre`, time t).
-void near_cells(const CellTable& table, const std::vector<VoxelKey>& offsets, double cell, const VoxelKey& centre,
-                double t, std::vector<NearCell>& out);
+void near_cells(const CellTable& table, const std::vector<VoxelKey>& offsets, double cell,
+                const VoxelKey& centre, double t, std::vector<NearCell>& out);
 
 // The moments of query `q` (in cell `centre`) from its cell's neighbours: a cell takes part when
 // its box reaches within `radius` of the query and the mean of its points lies within it.
 // Relative to the query cell's origin. `chosen`: bit j set when near[j] takes part (the first 64).
-Moments4 neighbourhood_of(const Eigen::Vector3d& q, const VoxelKey& centre, double cell, double radius,
-                          const std::vector<NearCell>& near, std::uint64_t& chosen);
+Moments4 neighbourhood_of(const Eigen::Vector3d& q, const VoxelKey& centre, double cell,
+                          double radius, const std::vector<NearCell>& near, std::uint64_t& chosen);
 
 // Points by cell: `order` lists them cell by cell, cell c's points at order[start[c]] ..
 // order[start[c + 1]]; `cell_of[i]` in [0, cells) is point i's cell.

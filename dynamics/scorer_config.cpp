@@ -17,7 +17,8 @@ void validate(const ScorerConfig& c) {
   if (!(c.time_scale > 0)) bad("time_scale must be positive");
   if (c.max_eigen_ratio < 0 || c.max_eigen_ratio > 1) bad("max_eigen_ratio must be in [0, 1]");
   if (c.min_neighbors < 4) bad("min_neighbors must be at least 4 (a 4D PCA needs them)");
-  if (c.mode != "fast" && c.mode != "exact") bad("mode must be 'fast' or 'exact', not '" + c.mode + "'");
+  if (c.mode != "fast" && c.mode != "exact")
+    bad("mode must be 'fast' or 'exact', not '" + c.mode + "'");
   if (c.upsample != "nearest" && c.upsample != "paper") {
     bad("upsample must be 'nearest' or 'paper', not '" + c.upsample + "'");
   }
@@ -25,7 +26,8 @@ void validate(const ScorerConfig& c) {
   if (!(c.upsample_radius > 0)) bad("upsample_radius must be positive");
   if (c.ground_aware) validate(c.ground);
   if (c.object_completion || c.tracks.enabled) validate(c.objects, "scorer");
-  if (!std::isfinite(c.tracks.max_speed) || !(c.tracks.max_speed >= 0)) bad("track_max_speed must be >= 0");
+  if (!std::isfinite(c.tracks.max_speed) || !(c.tracks.max_speed >= 0))
+    bad("track_max_speed must be >= 0");
 }
 
 }  // namespace cleanmap

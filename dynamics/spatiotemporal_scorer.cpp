@@ -10,6 +10,7 @@
 #include <deque>
 #include <limits>
 #include <stdexcept>
+
 #include "dynamics/cell_neighbourhood.hpp"
 #include "dynamics/cell_table.hpp"
 #include "dynamics/euclidean_clusters.hpp"
@@ -17,10 +18,10 @@
 #include "dynamics/scan_objects.hpp"
 #include "dynamics/spatiotemporal_normal.hpp"
 #include "dynamics/upsample_scores.hpp"
-#include "io/error.hpp"
 #include "geometry/point_index.hpp"
 #include "geometry/voxel_downsample.hpp"
 #include "geometry/voxel_key.hpp"
+#include "io/error.hpp"
 
 namespace cleanmap {
 
@@ -95,7 +96,8 @@ struct SpatiotemporalScorer::Impl {
   using ScanCells = std::vector<std::pair<VoxelKey, Moments4>>;
   // `cell_of` (optional): per point, its cell's position in out[0] then out[1] (ground class 1
   // after every class-0 cell).
-  std::array<ScanCells, 2> scan_cells(const WindowScan& w, std::vector<std::int32_t>* cell_of = nullptr) const {
+  std::array<ScanCells, 2> scan_cells(const WindowScan& w,
+                                      std::vector<std::int32_t>* cell_of = nullptr) const {
     std::array<ScanCells, 2> out;
     std::array<tsl::robin_map<VoxelKey, std::uint32_t, VoxelKeyHash>, 2> slot;
     const double inv = 1.0 / cell;
@@ -232,8 +234,9 @@ struct SpatiotemporalScorer::Impl {
   // cell (cell_neighbourhood.hpp), exact mode by radius search in every scan of the window.
   void decide_points(WindowScan& w, PointDecisions& d) const {
     const auto n = static_cast<std::size_t>(w.points.cols());
-    const Eigen::Vector3f origin =
-        w.full.pose ? Eigen::Vector3f(w.full.pose->translation().cast<float>()) : Eigen::Vector3f::Zero();
+    const Eigen::Vector3f origin = w.full.pose
+                                       ? Eigen::Vector3f(w.full.pose->translation().cast<float>())
+                                       : Eigen::Vector3f::Zero();
     const auto decide = [&](std::size_t i, const Moments4& m, float score) {
       const auto k = static_cast<Eigen::Index>(i);
       d.score[i] = score;
@@ -251,37 +254,42 @@ struct SpatiotemporalScorer::Impl {
       const CellGroups groups = cell_groups(w.cell_of, w.cells);
       w.cell_of = {};
       const double inv = 1.0 / cell;
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups.start.size() - 1, 32), [&](const auto& range) {
-        std::vector<NearCell> near;
-        // Points of one cell that take the same cells have the same moments, summed in the same
-        // order: one eigen solve serves them all. The 4D eigen solve is the scorer's largest
-        // cost (perf, online run on the Pandar64 street: 11.8 % of all samples); the points that
-        // share a solve bring it to 10.7 %.
-        std::vector<std::pair<std::uint64_t, float>> solved;
-        for (std::size_t c = range.begin(); c != range.end(); ++c) {
-          const auto first = static_cast<std::size_t>(groups.start[c]), last = static_cast<std::size_t>(groups.start[c + 1]);
-          const auto i0 = static_cast<std::size_t>(groups.order[first]);
-          // A group's points share their ground class (scan_cells groups by class and cell).
-          const VoxelKey centre = voxel_of(w.points.col(static_cast<Eigen::Index>(i0)), inv);
-          near_cells(cells[w.ground[i0]], offsets, cell, centre, cfg.time_scale * w.time[static_cast<Eigen::Index>(i0)], near);
-          const bool memo = near.size() <= 64;
-          solved.clear();
-          for (std::size_t j = first; j < last; ++j) {
-            const auto i = static_cast<std::size_t>(groups.order[j]);
-            std::uint64_t chosen = 0;
-            const Moments4 m = neighbourhood_of(w.points.col(static_cast<Eigen::Index>(i)).cast<double>(), centre, cell,
-                                                cfg.radius, near, chosen);
-            const auto hit = std::find_if(solved.begin(), solved.end(), [&](const auto& e) { return e.first == chosen; });
-            if (memo && hit != solved.end()) {
-              decide(i, m, hit->second);
-              continue;
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, groups.start.size() - 1, 32), [&](const auto& range) {
+            std::vector<NearCell> near;
+            // Points of one cell that take the same cells have the same moments, summed in the same
+            // order: one eigen solve serves them all. The 4D eigen solve is the scorer's largest
+            // cost (perf, online run on the Pandar64 street: 11.8 % of all samples); the points
+            // that share a solve bring it to 10.7 %.
+            std::vector<std::pair<std::uint64_t, float>> solved;
+            for (std::size_t c = range.begin(); c != range.end(); ++c) {
+              const auto first = static_cast<std::size_t>(groups.start[c]),
+                         last = static_cast<std::size_t>(groups.start[c + 1]);
+              const auto i0 = static_cast<std::size_t>(groups.order[first]);
+              // A group's points share their ground class (scan_cells groups by class and cell).
+              const VoxelKey centre = voxel_of(w.points.col(static_cast<Eigen::Index>(i0)), inv);
+              near_cells(cells[w.ground[i0]], offsets, cell, centre,
+                         cfg.time_scale * w.time[static_cast<Eigen::Index>(i0)], near);
+              const bool memo = near.size() <= 64;
+              solved.clear();
+              for (std::size_t j = first; j < last; ++j) {
+                const auto i = static_cast<std::size_t>(groups.order[j]);
+                std::uint64_t chosen = 0;
+                const Moments4 m =
+                    neighbourhood_of(w.points.col(static_cast<Eigen::Index>(i)).cast<double>(),
+                                     centre, cell, cfg.radius, near, chosen);
+                const auto hit = std::find_if(solved.begin(), solved.end(),
+                                              [&](const auto& e) { return e.first == chosen; });
+                if (memo && hit != solved.end()) {
+                  decide(i, m, hit->second);
+                  continue;
+                }
+                const float score = spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
+                if (memo) solved.emplace_back(chosen, score);
+                decide(i, m, score);
+              }
             }
-            const float score = spatiotemporal_score(m, cfg.min_neighbors, cfg.max_eigen_ratio);
-            if (memo) solved.emplace_back(chosen, score);
-            decide(i, m, score);
-          }
-        }
-      });
+          });
     }
   }
 
@@ -313,8 +321,9 @@ struct SpatiotemporalScorer::Impl {
                                      cfg.objects.min_votes, w.owner);
     }
     for (auto v : d.dynamic) out.dynamic_downsampled += v;
-    auto full = upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius,
-                                cfg.ground_static ? w.on_floor : std::vector<std::uint8_t>{}, w.voxel);
+    auto full =
+        upsample_scores(w.full.points, w.points, w.owner, d, cfg.upsample, cfg.upsample_radius,
+                        cfg.ground_static ? w.on_floor : std::vector<std::uint8_t>{}, w.voxel);
     w.owner = {};
     out.score = std::move(full.score);
     out.dynamic = std::move(full.dynamic);
@@ -343,12 +352,15 @@ PreparedScan SpatiotemporalScorer::prepare(Scan scan) {
   return {std::make_shared<WindowScan>(impl_->prepare(std::move(scan)))};
 }
 
-std::vector<ScoredScan> SpatiotemporalScorer::push(Scan scan) { return push(prepare(std::move(scan))); }
+std::vector<ScoredScan> SpatiotemporalScorer::push(Scan scan) {
+  return push(prepare(std::move(scan)));
+}
 
 std::vector<ScoredScan> SpatiotemporalScorer::push(PreparedScan scan) {
   Impl& s = *impl_;
   const auto half = static_cast<std::size_t>(s.cfg.window_half);
-  if (!scan.data || scan.data->index != s.pushed) throw std::logic_error("scorer: scans pushed out of their prepared order");
+  if (!scan.data || scan.data->index != s.pushed)
+    throw std::logic_error("scorer: scans pushed out of their prepared order");
   s.window.push_back(std::move(*scan.data));
   // The index reads the points in place: build it once they sit at their final address (a
   // deque never moves its elements on push_back/pop_front).

@@ -1,15 +1,14 @@
 #include "dynamics/upsample_scores.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tsl/robin_map.h>
+#include <tsl/robin_set.h>
 
 #include <array>
 #include <atomic>
 #include <climits>
 #include <cmath>
 #include <limits>
-
-#include <tsl/robin_map.h>
-#include <tsl/robin_set.h>
 
 #include "geometry/point_index.hpp"
 #include "geometry/voxel_key.hpp"
@@ -83,8 +82,9 @@ void paper_rule(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
   });
 }
 
-void nearest_by_grid(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down, const std::vector<std::int32_t>& owner,
-                     const PointDecisions& d, double radius, double voxel, PointDecisions& out) {
+void nearest_by_grid(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
+                     const std::vector<std::int32_t>& owner, const PointDecisions& d, double radius,
+                     double voxel, PointDecisions& out) {
   const auto nn = nearest_on_voxels(full, down, owner, voxel);
   const float r_sq = static_cast<float>(radius * radius);
   for (std::size_t i = 0; i < nn.size(); ++i) {
@@ -97,12 +97,14 @@ void nearest_by_grid(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
 
 }  // namespace
 
-std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
+std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full,
+                                            const Eigen::Matrix3Xf& down,
                                             const std::vector<std::int32_t>& owner, double voxel) {
   const double inv = 1.0 / voxel;
   tsl::robin_map<VoxelKey, std::int32_t, VoxelKeyHash> at;
   at.reserve(static_cast<std::size_t>(down.cols()));
-  for (Eigen::Index k = 0; k < down.cols(); ++k) at.emplace(voxel_of(down.col(k), inv), static_cast<std::int32_t>(k));
+  for (Eigen::Index k = 0; k < down.cols(); ++k)
+    at.emplace(voxel_of(down.col(k), inv), static_cast<std::int32_t>(k));
   std::vector<std::int32_t> nn(owner);
   static std::atomic<std::uint64_t> calls{0};
   const std::uint64_t call = ++calls;  // names this table in the threads' caches
@@ -148,7 +150,9 @@ std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full, const 
       for (int x = lo[0]; x <= hi[0]; ++x) {
         for (int y = lo[1]; y <= hi[1]; ++y) {
           for (int z = lo[2]; z <= hi[2]; ++z) {
-            if ((x == 0 && y == 0 && z == 0) || gap[0][x + 2] + gap[1][y + 2] + gap[2][z + 2] > limit) continue;
+            if ((x == 0 && y == 0 && z == 0) ||
+                gap[0][x + 2] + gap[1][y + 2] + gap[2][z + 2] > limit)
+              continue;
             const std::int32_t k = lookup({c.x + x, c.y + y, c.z + z});
             if (k < 0) continue;
             const float dist = (down.col(k) - p).squaredNorm();

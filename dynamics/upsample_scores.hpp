@@ -30,7 +30,9 @@ PointDecisions upsample_scores(const Eigen::Matrix3Xf& full, const Eigen::Matrix
 // owner lies in the point's own voxel, at most sqrt(3) voxels away, so only the voxels of the
 // 5 x 5 x 5 block around it whose box is nearer than the owner can hold a nearer point.
 // Equal distances go to the lower index.
-std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full, const Eigen::Matrix3Xf& down,
-                                            const std::vector<std::int32_t>& owner, double voxel_size);
+std::vector<std::int32_t> nearest_on_voxels(const Eigen::Matrix3Xf& full,
+                                            const Eigen::Matrix3Xf& down,
+                                            const std::vector<std::int32_t>& owner,
+                                            double voxel_size);
 
 }  // namespace cleanmap

@@ -25,7 +25,8 @@ class RadiusGrid {
   // Calls fn(m, squared_distance) for every member strictly within the radius of q.
   template <typename Fn>
   void for_each_within(const Eigen::Vector3f& q, Fn&& fn) const {
-    for_each_within(q, [](std::uint32_t) { return false; }, fn);
+    for_each_within(
+        q, [](std::uint32_t) { return false; }, fn);
   }
 
   // The same, but the members of a cube for which skip(cube) is true are not visited

@@ -53,7 +53,8 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
 // parsing, naming the option and its range.
 TEST(SettingsCheck, ThreadsBeyondAnyMachineAreRefusedByName) {
   test::TempDir dir;
-  const auto r = run("--threads 2147483647 demo --generate-only --scans 2 --out " + (dir / "demo").string());
+  const auto r =
+      run("--threads 2147483647 demo --generate-only --scans 2 --out " + (dir / "demo").string());
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("1024"), std::string::npos) << r.output;

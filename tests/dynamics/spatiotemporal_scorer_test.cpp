@@ -175,7 +175,8 @@ TEST(SpatiotemporalScorer, ScansPreparedAheadScoreAsScansPushedWhole) {
     EXPECT_EQ(a[k].dynamic, b[k].dynamic);
     ASSERT_EQ(a[k].score.size(), b[k].score.size());
     for (std::size_t i = 0; i < a[k].score.size(); ++i) {
-      EXPECT_TRUE(a[k].score[i] == b[k].score[i] || (std::isnan(a[k].score[i]) && std::isnan(b[k].score[i])));
+      EXPECT_TRUE(a[k].score[i] == b[k].score[i] ||
+                  (std::isnan(a[k].score[i]) && std::isnan(b[k].score[i])));
     }
   }
   SpatiotemporalScorer order(cfg);

@@ -75,9 +75,11 @@ TEST(UpsampleScores, NearestOnVoxelsIsTheBruteForceNearest) {
     std::size_t moved = 0;
     for (Eigen::Index i = 0; i < full.cols(); ++i) {
       float best = std::numeric_limits<float>::infinity();
-      for (Eigen::Index k = 0; k < down.cols(); ++k) best = std::min(best, (down.col(k) - full.col(i)).squaredNorm());
+      for (Eigen::Index k = 0; k < down.cols(); ++k)
+        best = std::min(best, (down.col(k) - full.col(i)).squaredNorm());
       const auto s = static_cast<std::size_t>(i);
-      EXPECT_EQ((down.col(nn[s]) - full.col(i)).squaredNorm(), best) << "point " << i << ", voxel " << voxel;
+      EXPECT_EQ((down.col(nn[s]) - full.col(i)).squaredNorm(), best)
+          << "point " << i << ", voxel " << voxel;
       moved += nn[s] != sample.owner[s];
     }
     EXPECT_GT(moved, 30u);  // the owner is often not the nearest: the search is exercised
