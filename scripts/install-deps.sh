@@ -6,6 +6,7 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
+# linux-perf: the profiles behind bench/PROFILE.md.
 $SUDO apt-get install -y -qq \
   build-essential cmake ninja-build pkg-config \
   libeigen3-dev libceres-dev libpcl-dev liboctomap-dev libnanoflann-dev libtbb-dev \
@@ -13,7 +14,7 @@ $SUDO apt-get install -y -qq \
   libgtest-dev libgmock-dev libbenchmark-dev \
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev \
   librcpputils-dev librcutils-dev libament-index-cpp-dev \
-  clang libclang-rt-14-dev \
+  clang libclang-rt-14-dev linux-perf \
   libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev libpng-dev \
   chromium \
   > /dev/null
