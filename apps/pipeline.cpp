@@ -13,6 +13,7 @@
 #include "apps/preset_yaml.hpp"
 #include "apps/progress.hpp"
 #include "apps/run_summary.hpp"
+#include "io/error.hpp"
 #include "odometry/deskew.hpp"
 
 namespace cleanmap::app {
@@ -30,6 +31,13 @@ Sequence open_checked(const PipelineOptions& opt, const PipelineConfig& cfg) {
   if (opt.mapping) validate(cfg.mapping.map);
   if (opt.mapping && cfg.mapping.free_space) validate(cfg.mapping.free_space_objects, "mapping: free space vote");
   if (opt.mapping) validate(cfg.mapping.visibility);  // offline: the log's; online: its ends
+  // The 2D grid's height band (issue 45: an inverted band was accepted and gave an empty grid).
+  if (opt.mapping && !(cfg.mapping.grid_z_min < cfg.mapping.grid_z_max)) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "--grid-z-min (mapping.grid_z_min) %g m must be below --grid-z-max %g m",
+                  cfg.mapping.grid_z_min, cfg.mapping.grid_z_max);
+    throw Error(msg);
+  }
   validate(cfg.input.platform);
   return open_sequence(opt.input, sequence_options(cfg.input));
 }

@@ -25,7 +25,8 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
       {"--resolution 1e-9", "--resolution: must be in [0.001, 100], not 1e-09"},
       {"--resolution 0.001 --map-max-range 100", "too fine for map_max_range 100 m"},
       {"--window-half 0", "--window-half: must be >= 1, not 0"},
-      {"--prob-hit 2", "--prob-hit: must be in (0.5, 1], not 2"}};
+      {"--prob-hit 2", "--prob-hit: must be in (0.5, 1], not 2"},
+      {"--occupancy-grid --grid-z-min 3 --grid-z-max 2", "--grid-z-min (mapping.grid_z_min) 3 m must be below --grid-z-max 2 m"}};
   for (const auto& [opt, message] : cases) {
     const auto r = run("run --input " + log + " --out " + (dir / "out").string() + " --overwrite " + opt);
     EXPECT_EQ(r.code, 1) << opt;
