@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
@@ -45,6 +46,22 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // A word where the command goes that names none (issue 45: `cleanmap frobnicate` said only
+    // "A subcommand is required"): name the word and list the commands.
+    if (app.get_subcommands().empty()) {
+      for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word == "--threads") ++i;  // its value
+        if (word.empty() || word[0] == '-') continue;
+        std::string commands;
+        for (const auto* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+          commands += (commands.empty() ? "" : ", ") + sub->get_name();
+        }
+        std::fprintf(stderr, "cleanmap: '%s' is not a command; the commands: %s (cleanmap --help)\n",
+                     word.c_str(), commands.c_str());
+        return e.get_exit_code();
+      }
+    }
     return app.exit(e);
   } catch (const cleanmap::app::Interrupted& e) {
     std::fprintf(stderr, "\ncleanmap: %s\n", e.what());

@@ -63,6 +63,16 @@ TEST(SettingsCheck, ThreadsBeyondAnyMachineAreRefusedByName) {
   EXPECT_FALSE(fs::exists(dir / "demo" / "sequence"));
 }
 
+// `cleanmap frobnicate` said only "A subcommand is required": the word is named and the
+// commands listed, in one line.
+TEST(SettingsCheck, AnUnknownCommandIsNamedAndTheCommandsListed) {
+  const auto r = run("--threads 2 frobnicate --out x");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("'frobnicate' is not a command"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("demo, score, odometry, run"), std::string::npos) << r.output;
+  EXPECT_EQ(lines(r.output), 1u) << r.output;
+}
+
 TEST(SettingsCheck, EvaluationsRefuseWhatTheyCannotMeasure) {
   test::TempDir dir;
   std::ofstream(dir / "one.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
