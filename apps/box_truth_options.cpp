@@ -3,9 +3,10 @@
 #include <map>
 #include <string>
 
-#include "apps/config_fields.hpp"
+#include "apps/cli_fields.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 
 void add_box_truth_options(CLI::App& command, BoxTruthOptions& options) {
   command.add_option("--speed", options.speed, "Boxes faster than this (m/s, world frame) are moving")

@@ -2,6 +2,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/cli_fields.hpp"
+#include "apps/preset_options.hpp"
+
 namespace cleanmap::app {
 
 // Each subcommand registers its options and its callback on the top-level app.

@@ -3,9 +3,10 @@
 #include <cstdio>
 
 #include "apps/commands.hpp"
-#include "apps/preset_yaml.hpp"
+#include "pipeline/preset_yaml.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 
 void register_config(CLI::App& app) {
   struct Args {

@@ -3,13 +3,13 @@
 #include <filesystem>
 
 #include "apps/commands.hpp"
-#include "apps/config_fields.hpp"
+#include "apps/cli_fields.hpp"
 #include "apps/installed_file.hpp"
-#include "apps/settings.hpp"
-#include "apps/output_claim.hpp"
-#include "apps/output_dir.hpp"
-#include "apps/pipeline.hpp"
-#include "apps/progress.hpp"
+#include "apps/preset_options.hpp"
+#include "pipeline/output_claim.hpp"
+#include "pipeline/output_dir.hpp"
+#include "pipeline/pipeline.hpp"
+#include "pipeline/progress.hpp"
 #include "io/cloud_file.hpp"
 #include "io/label_file.hpp"
 #include "io/pose_file.hpp"
@@ -17,6 +17,7 @@
 #include "simulation/synthetic_lidar.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 namespace fs = std::filesystem;
 namespace {
 

@@ -5,10 +5,10 @@
 
 #include "apps/box_truth_options.hpp"
 #include "apps/commands.hpp"
-#include "apps/config_fields.hpp"
+#include "apps/cli_fields.hpp"
 #include "apps/map_truth.hpp"
-#include "apps/output_dir.hpp"
-#include "apps/settings.hpp"
+#include "pipeline/output_dir.hpp"
+#include "apps/preset_options.hpp"
 #include "evaluation/box_labels.hpp"
 #include "evaluation/dynamic_metrics.hpp"
 #include "evaluation/map_metrics.hpp"
@@ -20,6 +20,7 @@
 #include "io/sequence.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 namespace fs = std::filesystem;
 namespace {
 

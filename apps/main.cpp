@@ -7,7 +7,7 @@
 #include <string>
 
 #include "apps/commands.hpp"
-#include "apps/interrupt.hpp"
+#include "pipeline/interrupt.hpp"
 #include "io/error.hpp"
 
 int main(int argc, char** argv) {
@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
       }
     }
     return app.exit(e);
-  } catch (const cleanmap::app::Interrupted& e) {
+  } catch (const cleanmap::pipeline::Interrupted& e) {
     std::fprintf(stderr, "\ncleanmap: %s\n", e.what());
     return 130;  // as a shell reports a process ended by SIGINT
   } catch (const cleanmap::Error& e) {

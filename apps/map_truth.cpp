@@ -2,11 +2,12 @@
 
 #include <string>
 
-#include "apps/config_fields.hpp"
+#include "apps/cli_fields.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 
 MapTruth read_map_truth(const std::filesystem::path& file) {
   MapTruth t;

@@ -4,17 +4,18 @@
 #include <optional>
 
 #include "apps/commands.hpp"
-#include "apps/output_claim.hpp"
-#include "apps/output_dir.hpp"
-#include "apps/preset_yaml.hpp"
-#include "apps/progress.hpp"
-#include "apps/run_inputs.hpp"
-#include "apps/settings.hpp"
+#include "pipeline/output_claim.hpp"
+#include "pipeline/output_dir.hpp"
+#include "pipeline/preset_yaml.hpp"
+#include "pipeline/progress.hpp"
+#include "pipeline/run_inputs.hpp"
+#include "apps/preset_options.hpp"
 #include "io/close_checked.hpp"
 #include "io/cloud_file.hpp"
 #include "odometry/lidar_odometry.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 namespace fs = std::filesystem;
 namespace {
 

@@ -6,13 +6,14 @@
 
 #include "apps/commands.hpp"
 #include "apps/installed_file.hpp"
-#include "apps/output_dir.hpp"
+#include "pipeline/output_dir.hpp"
 #include "evaluation/trajectory_metrics.hpp"
 #include "io/close_checked.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 namespace fs = std::filesystem;
 namespace {
 

@@ -1,9 +1,10 @@
 #include "apps/commands.hpp"
-#include "apps/output_claim.hpp"
-#include "apps/output_dir.hpp"
-#include "apps/pipeline.hpp"
+#include "pipeline/output_claim.hpp"
+#include "pipeline/output_dir.hpp"
+#include "pipeline/pipeline.hpp"
 
 namespace cleanmap::app {
+using namespace ::cleanmap::pipeline;
 namespace fs = std::filesystem;
 namespace {
 

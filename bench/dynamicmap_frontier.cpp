@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/config_fields.hpp"
+#include "apps/cli_fields.hpp"
 #include "apps/map_truth.hpp"
 #include "geometry/point_index.hpp"
 #include "io/error.hpp"
@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   double distance = 0.05;
   app.add_option("--gt", file, "gt_cloud.pcd (intensity 0 static, 1 dynamic)")->required();
   app.add_option("--distance", distance, "Kept when an output point is this close, m")
-      ->check(app::number_in(app::kPositive))->capture_default_str();
+      ->check(app::number_in(pipeline::kPositive))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     frontier(file, distance);

@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "apps/box_truth_options.hpp"
-#include "apps/config_fields.hpp"
-#include "apps/run_inputs.hpp"
+#include "apps/cli_fields.hpp"
+#include "pipeline/run_inputs.hpp"
 #include "evaluation/box_labels.hpp"
 #include "evaluation/object_motion.hpp"
 #include "io/cloud_file.hpp"
@@ -77,7 +77,7 @@ void convert(const Args& a) {
   if (seq.world_frame) throw Error(a.input.string() + ": already in the DynamicMap layout");
   if (!seq.has_poses()) throw Error(a.input.string() + ": no poses (give --poses, e.g. a run's poses.txt)");
   const Truth truth(seq, a);
-  const PlatformMask mask = app::platform_mask(seq, PlatformMaskConfig{});  // as `cleanmap run` learns it
+  const PlatformMask mask = pipeline::platform_mask(seq, PlatformMaskConfig{});  // as `cleanmap run` learns it
   fs::create_directories(a.out / "pcd");
   std::vector<Eigen::Vector3f> gt_points;
   std::vector<float> gt_moving;

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "apps/offline_spill.hpp"
+#include "pipeline/offline_spill.hpp"
 #include "io/cloud_file.hpp"
 #include "io/error.hpp"
 #include "io/pcd_file.hpp"
@@ -45,8 +45,8 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   r.scans_after = 4;
   r.tracked_points = 1;
   const auto file = dir / "a.spill";
-  app::write_spill(file, r, {9, 9, 251});
-  const auto back = app::read_spill(file);
+  pipeline::write_spill(file, r, {9, 9, 251});
+  const auto back = pipeline::read_spill(file);
   EXPECT_EQ(back.scored.index, 7u);
   EXPECT_EQ(back.scored.scan.name, "000007");
   EXPECT_TRUE(back.scored.scan.points.isApprox(r.scan.points));
@@ -71,7 +71,7 @@ TEST(OfflineSpill, RoundTripsAScanAndRefusesATruncatedOne) {
   auto refused = [&](const std::string& bytes, const char* what) {
     SCOPED_TRACE(what);
     std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
-    test::expect_error([&] { app::read_spill(file); }, {"a.spill"});
+    test::expect_error([&] { pipeline::read_spill(file); }, {"a.spill"});
   };
   refused(whole.substr(0, whole.size() - 9), "cut short");
   refused(whole.substr(0, 12), "cut inside its header");
@@ -106,10 +106,10 @@ TEST(OfflineSpill, AScanSpillsInUnderHalfItsBytes) {
   r.scan.input_size = n;
   r.score.assign(n, 0.25f);
   r.dynamic.assign(n, 0);
-  const auto bytes = app::write_spill(dir / "b.spill", r, {});
+  const auto bytes = pipeline::write_spill(dir / "b.spill", r, {});
   EXPECT_EQ(bytes, std::filesystem::file_size(dir / "b.spill"));
   EXPECT_LT(bytes, 29u * n / 2);
-  const auto back = app::read_spill(dir / "b.spill");
+  const auto back = pipeline::read_spill(dir / "b.spill");
   EXPECT_EQ(back.scored.scan.points, r.scan.points);  // exact: nothing is rounded
   EXPECT_EQ(back.scored.scan.time, r.scan.time);
 }
@@ -118,20 +118,20 @@ TEST(OfflineSpill, ARunWhoseSpillsWillNotFitSaysSoAfterItsFirstScans) {
   const std::filesystem::path dir = "/data/out/.offline";
   // 10 scans spilled 1 GB; 100 to come need 10 GB more.
   const std::size_t gb = 1000000000;
-  EXPECT_EQ(app::spill_space_problem(dir, gb, 10, 100, 10 * gb + 1), "");
-  const auto line = app::spill_space_problem(dir, gb, 10, 100, 10 * gb - 1);
+  EXPECT_EQ(pipeline::spill_space_problem(dir, gb, 10, 100, 10 * gb + 1), "");
+  const auto line = pipeline::spill_space_problem(dir, gb, 10, 100, 10 * gb - 1);
   EXPECT_EQ(line.rfind("/data/out/.offline: ", 0), 0u) << line;
   EXPECT_NE(line.find("10.0 GB more for 100 scans"), std::string::npos) << line;
   EXPECT_NE(line.find("100.0 MB a scan"), std::string::npos) << line;
   EXPECT_NE(line.find("--online"), std::string::npos) << line;
   EXPECT_EQ(line.find('\n'), std::string::npos);                // one line
-  EXPECT_EQ(app::spill_space_problem(dir, gb, 0, 100, 0), "");  // nothing spilled yet
-  EXPECT_EQ(app::spill_space_problem(dir, gb, 10, 0, 0), "");   // the last scan is in
+  EXPECT_EQ(pipeline::spill_space_problem(dir, gb, 0, 100, 0), "");  // nothing spilled yet
+  EXPECT_EQ(pipeline::spill_space_problem(dir, gb, 10, 0, 0), "");   // the last scan is in
   // This disk has room for a few kilobytes more: no error.
   test::TempDir tmp;
-  EXPECT_NO_THROW(app::check_spill_space(tmp.path, 1000, 1, 1));
+  EXPECT_NO_THROW(pipeline::check_spill_space(tmp.path, 1000, 1, 1));
   // And none for an exabyte a scan.
-  test::expect_error([&] { app::check_spill_space(tmp.path, std::size_t{1} << 60, 1, 1); },
+  test::expect_error([&] { pipeline::check_spill_space(tmp.path, std::size_t{1} << 60, 1, 1); },
                      {tmp.path.string() + ": ", "--online"});
 }
 

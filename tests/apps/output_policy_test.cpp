@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "apps/output_dir.hpp"
+#include "pipeline/output_dir.hpp"
 #include "tests/test_support.hpp"
 
 namespace cleanmap {
@@ -156,11 +156,11 @@ TEST(OutputPolicy, ASummaryCutShortByAFullDiskNeverReplacesTheLastOne) {
   // until it is closed, so the write must fail there, before the rename.
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   test::TempDir dir;
-  app::write_summary(dir.path, nlohmann::json{{"command", "run"}}, false, "the first");
+  pipeline::write_summary(dir.path, nlohmann::json{{"command", "run"}}, false, "the first");
   fs::create_symlink("/dev/full", dir / "summary.json.tmp");
   test::expect_error(
       [&] {
-        app::write_summary(dir.path, nlohmann::json{{"command", "run"}}, true, "");
+        pipeline::write_summary(dir.path, nlohmann::json{{"command", "run"}}, true, "");
       },
       {"summary.json.tmp", "disk full"});
   const auto kept = nlohmann::json::parse(std::ifstream(dir / "summary.json"));

@@ -1,6 +1,6 @@
 // YAML presets: every section of every command, each value checked against its field's range,
 // then the modules' own validation, as `run` does it.
-#include "apps/settings.hpp"
+#include "apps/preset_options.hpp"
 #include "odometry/lidar_odometry.hpp"
 #include "tests/fuzz/fuzz_file.hpp"
 

@@ -1,0 +1,30 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "io/sequence.hpp"
+#include "odometry/platform_mask.hpp"
+
+namespace cleanmap::pipeline {
+
+// The platform mask, learnt from the first scans in the sensor frame (world-frame inputs, such
+// as DynamicMap's, are cleaned already: only the crop box could apply, and it has no frame).
+PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg);
+
+// Masked points leave the scan before anything sees it; their outputs are label 0 / NaN.
+// Returns how many.
+std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask);
+
+// Per-point labels of `before` for the points `after` kept of it (both know their points'
+// places in the input file).
+std::vector<std::uint32_t> follow_points(const Scan& before, const std::vector<std::uint32_t>& labels,
+                                         const Scan& after);
+
+// A scan with no valid point: one warning line on stderr naming it and why (no points in the
+// file, or only NaN / infinite ones), and an entry {scan, reason} for summary.json.
+void note_empty(const LoadedScan& loaded, nlohmann::json& empty_scans);
+
+}  // namespace cleanmap::pipeline
