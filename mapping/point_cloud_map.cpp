@@ -32,4 +32,10 @@ void PointCloudMap::write(const std::filesystem::path& file) const {
   write_cloud(file, cloud, {{"score", score_}, {"scan", scan_}}, options);
 }
 
+Eigen::Matrix3Xf PointCloudMap::points() const {
+  Eigen::Matrix3Xf p(3, static_cast<Eigen::Index>(x_.size()));
+  for (std::size_t i = 0; i < x_.size(); ++i) p.col(static_cast<Eigen::Index>(i)) << x_[i], y_[i], z_[i];
+  return p;
+}
+
 }  // namespace cleanmap

@@ -59,6 +59,8 @@ class PointCloudMap {
            const std::vector<float>& score, std::size_t scan_index);
 
   std::size_t size() const { return x_.size(); }
+  // The points kept so far, one column each (a copy: the cloud keeps them by coordinate).
+  Eigen::Matrix3Xf points() const;
 
   // Writes x y z [intensity] score scan (PCD or PLY by extension).
   void write(const std::filesystem::path& file) const;

@@ -102,9 +102,9 @@ void claim_output(const OutputRequest& r) {
   write_summary(r.out, {{"command", r.command}}, false);
 }
 
-void run_guarded(const OutputRequest& r, const std::function<void()>& body) {
+void run_guarded(const OutputRequest& r, const std::function<void()>& body, bool handle_signals) {
   claim_output(r);
-  install_interrupt_handler();
+  if (handle_signals) install_interrupt_handler();
   auto mark = [&](const std::string& message) {
     nlohmann::json summary{{"command", r.command}};
     try {

@@ -25,6 +25,8 @@ void claim_output(const OutputRequest& request);
 
 // claim_output, then the command's body. Whatever stops the body (bad input, a failed write,
 // Ctrl-C) leaves OUT/summary.json with "complete": false and the message before it reaches main.
-void run_guarded(const OutputRequest& request, const std::function<void()>& body);
+// `handle_signals`: SIGINT / SIGTERM stop the body at its next scan (the command line; a
+// library's host, such as Python, keeps its own handlers).
+void run_guarded(const OutputRequest& request, const std::function<void()>& body, bool handle_signals = true);
 
 }  // namespace cleanmap::pipeline

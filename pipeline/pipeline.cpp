@@ -137,9 +137,12 @@ void first_pass(PipelineRun& run, Progress& progress) {
 }  // namespace
 
 PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& config)
+    : PipelineRun(options, config, open_checked(options, config)) {}
+
+PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& config, Sequence sequence)
     : opt(options),
       cfg(config),
-      seq(open_checked(options, config)),
+      seq(std::move(sequence)),
       offline(options.offline && options.mapping),
       // DynamicMap sequences are registered already: no odometry, and the output keeps every
       // raw input point that is not removed (never voxel centres or re-posed copies), as that
@@ -157,7 +160,7 @@ PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& c
     validate(cfg.odometry);
     odom = std::make_unique<LidarOdometry>(cfg.odometry);
   }
-  if (!use_odometry && !seq.has_poses() && !seq.world_frame) {
+  if (!use_odometry && !seq.has_poses() && !seq.world_frame && !opt.streamed) {
     fail(opt.input, "no poses: give --poses FILE or put poses.txt in the folder "
                     "(`cleanmap odometry` estimates them, `cleanmap run` does it itself)");
   }
@@ -183,9 +186,7 @@ void PipelineRun::describe(nlohmann::json& summary) const {
 }
 
 std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
-  auto item = std::make_shared<PipelineItem>();
-  item->index = index;
-  auto t = Clock::now();
+  const auto t = Clock::now();
   {
     std::lock_guard<std::mutex> lock(loaded_mutex);
     loaded_at.push_back(t);
@@ -193,6 +194,18 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   const bool primed = index == 1 && second.has_value();
   LoadedScan loaded = primed ? std::move(*second) : load_scan(seq, index);
   if (primed) second.reset();
+  read_s += since(t);
+  // Scan 1 as read, to prime the odometry at scan 0: kept for load(1), so that it is read once.
+  if (odom && index == 0 && seq.size() > 1) second = load_scan(seq, 1);
+  return pose_scan(std::move(loaded), index, index + 1 == seq.size(), second ? &*second : nullptr);
+}
+
+std::shared_ptr<PipelineItem> PipelineRun::pose_scan(LoadedScan loaded, std::size_t index, bool last,
+                                                     const LoadedScan* next) {
+  auto item = std::make_shared<PipelineItem>();
+  item->index = index;
+  item->last = last;
+  auto t = Clock::now();
   dropped += loaded.dropped_non_finite;
   if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
   masked += drop_masked(loaded, mask);
@@ -201,11 +214,10 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   t = Clock::now();
   if (odom) {
     std::lock_guard<std::mutex> lock(odom_mutex);
-    if (index == 0 && seq.size() > 1) {  // the first step, so that the first two sweeps are undistorted too
-      second = load_scan(seq, 1);
-      LoadedScan next = *second;  // masked here; load(1) masks and counts it as any other
-      drop_masked(next, mask);
-      odom->prime(loaded.scan, next.scan);
+    if (index == 0 && next) {  // the first step, so that the first two sweeps are undistorted too
+      LoadedScan after = *next;  // masked here; scan 1 is masked and counted as any other
+      drop_masked(after, mask);
+      odom->prime(loaded.scan, after.scan);
     }
     auto step = odom->register_scan(loaded.scan);
     if (index == 0 && !step.note.empty()) std::fprintf(stderr, "%s: first scan: %s\n", opt.command.c_str(), step.note.c_str());
@@ -239,10 +251,13 @@ void PipelineRun::prepare(PipelineItem& item) {
 void PipelineRun::score(PipelineItem& item) {
   const auto t = Clock::now();
   waiting[item.index] = std::move(item.labels);
-  // Scorer, then tracker; at the log's end both hand over what they hold.
-  const bool last = item.index + 1 == seq.size();
   if (ends) ends->add(item.prepared.scan(), item.stamped);
-  auto scored = scorer.push(std::move(item.prepared));
+  release(item, scorer.push(std::move(item.prepared)), item.last);
+  scoring_s += since(t);
+}
+
+void PipelineRun::release(PipelineItem& item, std::vector<ScoredScan> scored, bool last) {
+  // Scorer, then tracker; at the log's end both hand over what they hold.
   if (last) append(scored, scorer.finish());
   std::vector<ScoredScan> ready;
   for (auto& s : scored) append(ready, tracker.push(std::move(s)));
@@ -259,7 +274,6 @@ void PipelineRun::score(PipelineItem& item) {
     waiting.erase(r.index);
     item.scored.emplace_back(std::move(r), std::move(labels));
   }
-  scoring_s += since(t);
 }
 
 void PipelineRun::flush(PipelineItem& item) {

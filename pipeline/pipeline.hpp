@@ -1,11 +1,15 @@
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "pipeline/settings.hpp"
 #include "dynamics/scorer_config.hpp"
+#include "dynamics/spatiotemporal_scorer.hpp"
 #include "odometry/odometry_config.hpp"
 
 namespace cleanmap::pipeline {
@@ -23,6 +27,11 @@ struct PipelineOptions {
   bool offline = false;   // two passes (needs mapping)
   bool mos_predictions = false;  // also OUT/sequences/XX/predictions (apps/mos_layout.hpp)
   std::string mos_sequence;      // XX; empty: the input folder's name
+  // A stream pushed scan by scan (OnlineMapper), not a log read from `input`: no files are
+  // written, and each scan's outputs go to `on_scan` instead.
+  bool streamed = false;
+  // Each scan once final: its labels (label-file codes) and scores, both in input order.
+  std::function<void(const ScoredScan&, std::vector<std::uint32_t>, std::vector<float>)> on_scan;
 };
 
 // Writes every output into options.out, summary.json last; throws Error on bad input (the

@@ -100,15 +100,23 @@ void PipelineRun::write_scan(ScoredScan& r, const std::vector<std::uint32_t>& gt
     raw_cloud.add(scan, std::vector<std::uint8_t>(scan.size(), 1), r.score, r.index);
   }
   if (!offline) feed_back(r);
-  write_scores(opt.out / "scores" / (scan.name + ".bin"), to_input_order(scan, r.score, std::nanf("")));
-  const auto in_order = to_input_order(scan, labels, kLabelUnscored);
+  auto scores_in_order = to_input_order(scan, r.score, std::nanf(""));
+  auto in_order = to_input_order(scan, labels, kLabelUnscored);
+  static_cloud.add(scan, keep_static, r.score, r.index);
+  if (opt.streamed) {  // OnlineMapper: no files; the map's static cloud is all it keeps
+    if (opt.on_scan) opt.on_scan(r, std::move(in_order), std::move(scores_in_order));
+    points += scan.size();
+    dynamic_points += n_dyn;
+    write_s += since(t);
+    return;
+  }
+  write_scores(opt.out / "scores" / (scan.name + ".bin"), scores_in_order);
   write_labels(opt.out / "labels" / (scan.name + ".label"), in_order);
   if (!mos_dir.empty()) write_labels(mos_label_file(mos_dir, scan, r.index), mos_labels(scan, r.dynamic));
   if (seq.image_width > 0) {
     write_label_mask(opt.out / "labels" / (scan.name + ".png"), in_order, seq.image_width, seq.image_height);
   }
   dynamic_cloud.add(scan, r.dynamic, r.score, r.index);
-  static_cloud.add(scan, keep_static, r.score, r.index);
 
   nlohmann::json js = scan_json(r, n_dyn, n_unscored, cfg.scorer.window_half);
   if (!gt.empty()) {

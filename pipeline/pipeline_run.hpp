@@ -39,6 +39,7 @@ inline double since(Clock::time_point t) { return std::chrono::duration<double>(
 struct PipelineItem {
   std::size_t index = 0;
   bool flush = false;             // after the log: carries one of the scans held at its end
+  bool last = false;              // the log's last scan
   std::size_t flushes_after = 0;  // flush items still to come after this one
   Scan world;
   PreparedScan prepared;  // `world`, prepared for the scorer (stage 2)
@@ -49,16 +50,25 @@ struct PipelineItem {
 
 struct PipelineRun {
   PipelineRun(const PipelineOptions& options, const PipelineConfig& config);
+  // A run over `sequence` as given (OnlineMapper: an empty one that its pushes fill in).
+  PipelineRun(const PipelineOptions& options, const PipelineConfig& config, Sequence sequence);
 
   // summary.json's description of the run, written before any scan.
   void describe(nlohmann::json& summary) const;
   // Stage 1: read scan `index`, mask the platform, pose it (odometry, given poses, VIEWPOINT).
   std::shared_ptr<PipelineItem> load(std::size_t index);
+  // Stage 1 after reading: mask, then pose scan `index` (its entry of seq.poses / seq.times,
+  // when given, must be there, and the next one's for a sweep with per-point times).
+  // `next`: scan 1, to prime the odometry with at scan 0 (null: none).
+  std::shared_ptr<PipelineItem> pose_scan(LoadedScan loaded, std::size_t index, bool last, const LoadedScan* next);
   // Stage 2: the scorer's preparation of the scan (downsampling, ground, its cells), beside
   // stage 3's scoring of the scan before it.
   void prepare(PipelineItem& item);
   // Stage 3: scorer then tracker; what they release joins the item with its labels.
   void score(PipelineItem& item);
+  // What the scorer and tracker release after `scored` (the scorer's output for one scan) joins
+  // `item` with its labels; `last`: the stream ended, they hand over what they hold.
+  void release(PipelineItem& item, std::vector<ScoredScan> scored, bool last);
   void flush(PipelineItem& item);  // a flush item takes one held scan (the last, all left)
   // Stage 4: the occupancy opinion, then the static points into the map, rays cast from where
   // the sensor was (`sensor`, known once the log's poses are: pass 2) or from the scan's pose.
@@ -73,10 +83,10 @@ struct PipelineRun {
 
   const PipelineOptions& opt;
   const PipelineConfig& cfg;
-  const Sequence seq;
+  Sequence seq;  // OnlineMapper appends each pushed scan's time and pose
   const bool offline, use_odometry;
   const std::filesystem::path mos_dir, spill_dir;
-  const PlatformMask mask;
+  PlatformMask mask;  // OnlineMapper learns it from the first scans pushed
 
   std::unique_ptr<LidarOdometry> odom;
   // Map cells of static points the log saw standing (seen_standing), raised to occupied at the
@@ -95,6 +105,7 @@ struct PipelineRun {
   ObjectTracker tracker;
   std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans
   std::deque<ScoredScan> held;  // stage 2: scans released at the log's end, not yet sent on
+  bool scorer_finished = false;  // OnlineMapper: the last scan has been scored
   PointCloudMap dynamic_cloud, static_cloud, raw_cloud;
 
   std::vector<StampedPose> poses;

@@ -17,4 +17,9 @@ test -s run/report.html
 # The 3D view's bundle is installed beside the script and found from there.
 if [ -f "$build/apps/report/viewer.js" ]; then grep -q 'id="map3d"' run/report.html; fi
 grep -q '"complete": true' run/summary.json
+# The Python module, from the prefix's Python package folder (Debian's lib/python3/dist-packages).
+if ls "$prefix"/lib/python3/dist-packages/cleanmap*.so > /dev/null 2>&1; then
+  PYTHONPATH="$prefix/lib/python3/dist-packages" /usr/bin/python3 -c \
+    "import cleanmap, sys; cfg = cleanmap.Config.from_preset(); assert 'scorer' in cfg.to_yaml(); sys.exit(0 if cleanmap.__file__.startswith('$prefix') else 1)"
+fi
 echo "check-install: $prefix/bin/cleanmap runs demo, run and report from $work"

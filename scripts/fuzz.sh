@@ -14,7 +14,7 @@ targets=("$@")
 build=build-fuzz
 data="${CLEANMAP_SHARED_DATA:-../shared/data}"
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCLEANMAP_FUZZ=ON \
-  -DCLEANMAP_WITH_ROSBAG=OFF -DCLEANMAP_BUILD_BENCH=OFF > /dev/null
+  -DCLEANMAP_WITH_ROSBAG=OFF -DCLEANMAP_BUILD_BENCH=OFF -DCLEANMAP_PYTHON=OFF > /dev/null
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
 
 # Seeds: the first 200 points of real scans (a whole header, a body the size it claims), the

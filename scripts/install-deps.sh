@@ -6,7 +6,8 @@ SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
-# linux-perf: the profiles behind bench/PROFILE.md.
+# linux-perf: the profiles behind bench/PROFILE.md. pybind11, numpy, pytest, Open3D: the Python
+# module, its tests and examples (Debian's /usr/bin/python3, not a pyenv one first on PATH).
 $SUDO apt-get install -y -qq \
   build-essential cmake ninja-build pkg-config \
   libeigen3-dev libceres-dev libpcl-dev liboctomap-dev libnanoflann-dev libtbb-dev \
@@ -16,6 +17,7 @@ $SUDO apt-get install -y -qq \
   librcpputils-dev librcutils-dev libament-index-cpp-dev \
   clang libclang-rt-14-dev linux-perf \
   libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev libpng-dev \
+  pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d \
   chromium \
   > /dev/null
 # Node.js and npm come with this machine image (v20, npm 11); Debian's are the fallback (its npm

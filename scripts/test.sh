@@ -14,7 +14,7 @@ ctest --test-dir build --output-on-failure -j "$(nproc)" --no-tests=error
 # for a bounded smoke run (FUZZ_SECONDS each, default 10; `bash scripts/fuzz.sh 600` runs long).
 if [ "${CI:-}" = "true" ] || [ "${SANITIZE:-}" = "1" ]; then
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCLEANMAP_SANITIZE=ON \
-    -DCLEANMAP_BUILD_BENCH=OFF -DCLEANMAP_WERROR=$werror > /dev/null
+    -DCLEANMAP_BUILD_BENCH=OFF -DCLEANMAP_PYTHON=OFF -DCLEANMAP_WERROR=$werror > /dev/null
   cmake --build build-asan -j "$(nproc)"
   ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}" \
     ctest --test-dir build-asan --output-on-failure -j "$(nproc)" --no-tests=error
