@@ -34,34 +34,56 @@ void on_png_error(png_structp png, png_const_charp message) {
 }
 void on_png_warning(png_structp, png_const_charp) {}
 
-// The reading part that libpng may leave by longjmp: only plain data lives here.
+// The calls libpng may leave by longjmp (an error jumps back to the setjmp of the function
+// that called it): only plain data lives in these frames. A std::vector or std::string changed
+// after setjmp has an indeterminate value after the jump (gcc -O1: -Wclobbered).
+bool png_header(png_structp png, png_infop info, std::FILE* f) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_set_user_limits(png, kMaxImageSide, kMaxImageSide);
+  png_init_io(png, f);
+  png_read_info(png, info);
+  return true;
+}
+bool png_pixels(png_structp png, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_set_swap(png);  // PNG stores 16-bit samples big-endian
+  png_read_image(png, rows);
+  return true;
+}
+bool png_write_all(png_structp png, png_infop info, std::FILE* f, png_uint_32 width, png_uint_32 height,
+                   png_bytepp rows) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_init_io(png, f);
+  png_set_IHDR(png, info, width, height, 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  png_set_swap(png);
+  png_write_image(png, rows);
+  png_write_end(png, nullptr);
+  return true;
+}
+
 bool read_rows(std::FILE* f, Image16& out, std::string& why) {
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &why, on_png_error, on_png_warning);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
-  std::vector<png_bytep> rows;
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    return false;
-  }
-  png_set_user_limits(png, kMaxImageSide, kMaxImageSide);
-  png_init_io(png, f);
-  png_read_info(png, info);
+  struct Destroy {
+    png_structp* png;
+    png_infop* info;
+    ~Destroy() { png_destroy_read_struct(png, info, nullptr); }
+  } destroy{&png, &info};
+  if (!info || !png_header(png, info, f)) return false;
   if (png_get_bit_depth(png, info) != 16 || png_get_color_type(png, info) != PNG_COLOR_TYPE_GRAY) {
     why = "not a 16-bit greyscale image (bit depth " + std::to_string(png_get_bit_depth(png, info)) +
           ", colour type " + std::to_string(png_get_color_type(png, info)) + ")";
-    png_destroy_read_struct(&png, &info, nullptr);
     return false;
   }
-  png_set_swap(png);  // PNG stores 16-bit samples big-endian
   out.width = static_cast<int>(png_get_image_width(png, info));
   out.height = static_cast<int>(png_get_image_height(png, info));
   out.pixels.resize(static_cast<std::size_t>(out.width) * out.height);
-  rows.resize(static_cast<std::size_t>(out.height));
+  std::vector<png_bytep> rows(static_cast<std::size_t>(out.height));
   for (int y = 0; y < out.height; ++y) rows[y] = reinterpret_cast<png_bytep>(out.pixels.data() + y * out.width);
-  png_read_image(png, rows.data());
-  png_destroy_read_struct(&png, &info, nullptr);
-  return true;
+  return png_pixels(png, rows.data());
 }
 
 double finite(const YAML::Node& n, const char* key, const fs::path& file) {
@@ -93,21 +115,13 @@ void write_png16(const fs::path& file, const Image16& image) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &why, on_png_error, on_png_warning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   std::vector<png_bytep> rows(static_cast<std::size_t>(image.height));
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    fail(file, "write failed: " + why);
-  }
-  png_init_io(png, f.f);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 16,
-               PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  png_set_swap(png);
   for (int y = 0; y < image.height; ++y) {
     rows[y] = reinterpret_cast<png_bytep>(const_cast<std::uint16_t*>(image.pixels.data() + y * image.width));
   }
-  png_write_image(png, rows.data());
-  png_write_end(png, nullptr);
+  const bool ok = info && png_write_all(png, info, f.f, static_cast<png_uint_32>(image.width),
+                                        static_cast<png_uint_32>(image.height), rows.data());
   png_destroy_write_struct(&png, &info);
+  if (!ok) fail(file, "write failed: " + why);
 }
 
 void write_label_mask(const fs::path& file, const std::vector<std::uint32_t>& labels, int width, int height) {
