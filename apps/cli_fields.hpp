@@ -16,6 +16,10 @@ using pipeline::option_name;
 // PositiveNumber lets NaN through).
 CLI::Validator number_in(const Range& r);
 
+// A value that is there: an empty string is no number.
+inline const CLI::Validator kNotEmpty(
+    [](std::string& text) { return text.empty() ? std::string("an empty value is not a number") : std::string(); }, "");
+
 // One option per field, its built-in default shown in --help; a bool is a flag with a --no-
 // form (--free-space / --no-free-space; --free-space=false works too).
 template <typename Config, typename Fields>
@@ -27,7 +31,9 @@ void add_options(CLI::App& app, Config& target, const Fields& fields) {
       app.add_flag(name + ",!--no-" + name.substr(2), value,
                    std::string(f.help) + (value ? " [default: on]" : " [default: off]"));
     } else {
-      app.add_option(option_name(f.name), value, f.help)->capture_default_str();
+      auto* option = app.add_option(option_name(f.name), value, f.help)->capture_default_str();
+      // CLI11 reads an empty string as 0 (issue 45: `--radius ''` ran with radius 0).
+      if constexpr (std::is_arithmetic_v<std::remove_reference_t<decltype(value)>>) option->check(kNotEmpty);
     }
   };
   std::apply([&](const auto&... f) { (one(f), ...); }, fields);

@@ -10,6 +10,11 @@
 #include "pipeline/interrupt.hpp"
 #include "io/error.hpp"
 
+namespace {
+// Exit code of a command line that cannot be parsed (README: "Exit codes").
+constexpr int kUsageError = 2;
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"cleanmap: clean static maps from raw lidar logs (spatiotemporal normals)"};
   app.require_subcommand(1);
@@ -59,13 +64,15 @@ int main(int argc, char** argv) {
         }
         std::fprintf(stderr, "cleanmap: '%s' is not a command; the commands: %s (cleanmap --help)\n",
                      word.c_str(), commands.c_str());
-        return e.get_exit_code();
+        return kUsageError;
       }
     }
-    return app.exit(e);
+    // --help and --version end here with 0; every usage error exits 2 (CLI11's own codes,
+    // 104-114, told a script nothing it could rely on).
+    return app.exit(e) == 0 ? 0 : kUsageError;
   } catch (const cleanmap::pipeline::Interrupted& e) {
     std::fprintf(stderr, "\ncleanmap: %s\n", e.what());
-    return 130;  // as a shell reports a process ended by SIGINT
+    return 128 + e.signal;  // as a shell reports a process ended by the signal: 130 SIGINT, 143 SIGTERM
   } catch (const cleanmap::Error& e) {
     std::fprintf(stderr, "cleanmap: error: %s\n", e.what());
     return 1;

@@ -25,7 +25,7 @@ void install_interrupt_handler() {
 void throw_if_interrupted(const std::string& where) {
   const int sig = g_signal.load();
   if (sig == 0) return;
-  throw Interrupted(std::string("interrupted by ") + (sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") + " after " + where);
+  throw Interrupted(std::string("interrupted by ") + (sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") + " after " + where, sig);
 }
 
 }  // namespace cleanmap::pipeline

@@ -9,7 +9,8 @@ namespace cleanmap::pipeline {
 // Ctrl-C (SIGINT) or SIGTERM during a command: the first one asks the command to stop at the
 // next scan (so summary.json can say why it is incomplete); a second one ends the process at once.
 struct Interrupted : Error {
-  using Error::Error;
+  Interrupted(const std::string& message, int sig) : Error(message), signal(sig) {}
+  int signal;  // SIGINT or SIGTERM: a command exits 128 + signal, as a shell reports it
 };
 
 void install_interrupt_handler();

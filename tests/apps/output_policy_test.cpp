@@ -151,6 +151,33 @@ TEST(OutputPolicy, CtrlCStopsAtTheNextScanAndSaysSoInTheSummary) {
   EXPECT_NE(s.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.dump();
 }
 
+TEST(OutputPolicy, SigtermStopsAtTheNextScanAndExits143) {
+  test::TempDir dir;
+  const fs::path out = dir / "out";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execl(CLEANMAP_BINARY, CLEANMAP_BINARY, "demo", "--scans", "400", "--beams", "16", "--columns", "256", "--out",
+          out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until the run is under way (its summary exists), then interrupt it.
+  for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 143);  // 128 + SIGTERM, as a shell reports it (issue 45: it was 130)
+  const auto s = summary(out);
+  EXPECT_FALSE(s["complete"].get<bool>());
+  EXPECT_NE(s.value("error", "").find("interrupted by SIGTERM"), std::string::npos) << s.dump();
+}
+
 TEST(OutputPolicy, ASummaryCutShortByAFullDiskNeverReplacesTheLastOne) {
   // summary.json is written to a .tmp and renamed; a small summary stays in the stream's buffer
   // until it is closed, so the write must fail there, before the rename.

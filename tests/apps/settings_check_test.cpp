@@ -67,10 +67,23 @@ TEST(SettingsCheck, ThreadsBeyondAnyMachineAreRefusedByName) {
 // commands listed, in one line.
 TEST(SettingsCheck, AnUnknownCommandIsNamedAndTheCommandsListed) {
   const auto r = run("--threads 2 frobnicate --out x");
-  EXPECT_NE(r.code, 0);
+  EXPECT_EQ(r.code, 2);  // the one exit code of usage errors (README: Exit codes)
   EXPECT_NE(r.output.find("'frobnicate' is not a command"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("demo, score, odometry, run"), std::string::npos) << r.output;
   EXPECT_EQ(lines(r.output), 1u) << r.output;
+}
+
+// Issue 45: CLI11 read an empty string as 0 (`--radius ''` ran with radius 0), and its parse
+// errors exited with 104-114.
+TEST(SettingsCheck, AnEmptyNumberIsRefusedAndUsageErrorsExitTwo) {
+  test::TempDir dir;
+  auto r = run("run --input " + dir.path.string() + " --out " + (dir / "o").string() + " --radius ''");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--radius"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("an empty value is not a number"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "o"));  // refused before OUT is claimed
+  EXPECT_EQ(run("run --no-such-option 1").code, 2);
+  EXPECT_EQ(run("run --help").code, 0);
 }
 
 TEST(SettingsCheck, EvaluationsRefuseWhatTheyCannotMeasure) {
