@@ -94,9 +94,12 @@ Scan read_cloud(const std::filesystem::path& file, const CloudReadOptions& optio
     if (!std::filesystem::is_regular_file(file)) fail(file, "no such file");
     fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
   }
-  Scan scan = scan_from_raw_cloud(records.view(), file, options.time_unit);
+  Scan scan = scan_from_raw_cloud(records.view(), file, options.time_unit, options.shift);
   scan.name = file.stem().string();
-  if (records.viewpoint) scan.pose = records.viewpoint;
+  if (records.viewpoint) {
+    scan.pose = records.viewpoint;
+    scan.pose->translation() -= options.shift;
+  }
   return scan;
 }
 

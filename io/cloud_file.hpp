@@ -16,6 +16,10 @@ TimeUnit parse_time_unit(const std::string& text);
 
 struct CloudReadOptions {
   TimeUnit time_unit = TimeUnit::kAuto;
+  // Subtracted from x, y, z (and the VIEWPOINT's position) in double, before they become
+  // float: a world-frame cloud at georeferenced coordinates (UTM: millions of metres, where a
+  // float keeps a 0.5 m grid) keeps the file's precision relative to the map's local origin.
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
 };
 
 // Reads a PCD (ascii, binary, binary_compressed; any field layout) or PLY (ascii, binary) file

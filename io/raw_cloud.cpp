@@ -126,7 +126,7 @@ bool store_value(double value, std::uint8_t datatype, std::uint8_t* out) {
 }
 
 Scan scan_from_raw_cloud(const RawCloud& cloud, const std::filesystem::path& source,
-                         TimeUnit time_unit) {
+                         TimeUnit time_unit, const Eigen::Vector3d& shift) {
   for (const auto& f : cloud.fields) {
     if (f.datatype < kInt8 || f.datatype > kUint64) {
       fail(source, "field '" + f.name + "' has unknown type code " + std::to_string(f.datatype));
@@ -154,7 +154,9 @@ Scan scan_from_raw_cloud(const RawCloud& cloud, const std::filesystem::path& sou
   const std::array<const RawField*, 3> xyz{fx, fy, fz};
   for (int d = 0; d < 3; ++d) {
     const auto values = column(cloud, *xyz[d]);
-    for (std::size_t i = 0; i < n; ++i) scan.points(d, static_cast<Eigen::Index>(i)) = static_cast<float>(values[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+      scan.points(d, static_cast<Eigen::Index>(i)) = static_cast<float>(values[i] - shift[d]);
+    }
   }
   if (const auto* fi = find_field(cloud, {"intensity", "remission", "reflectivity", "i"})) {
     const auto v = column(cloud, *fi);

@@ -52,8 +52,8 @@ bool store_value(double value, std::uint8_t datatype, std::uint8_t* out);
 // lying PointCloud2 or file header fails here, naming `source`), then reads x, y, z (required), intensity (`intensity`, `remission`, `reflectivity`, `i`, or the grey
 // value of a packed `rgb`) and per-point time (`t`, `time`, `timestamp`, `stamp`, unit detected
 // from the spread unless given; epoch times become stamp + offsets). `source` names the input
-// in errors.
+// in errors. `shift` is subtracted from x, y, z in double before they become float.
 Scan scan_from_raw_cloud(const RawCloud& cloud, const std::filesystem::path& source,
-                         TimeUnit time_unit);
+                         TimeUnit time_unit, const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
 
 }  // namespace cleanmap

@@ -192,6 +192,29 @@ Scan read_raw_scan(const Sequence& seq, std::size_t index) {
   return seq.read_scan ? seq.read_scan(index, seq.cloud.time_unit) : read_scan_file(seq.scans.at(index), seq.cloud);
 }
 
+Eigen::Vector3d local_origin_near(const Eigen::Vector3d& first_position) {
+  if (!first_position.allFinite()) return Eigen::Vector3d::Zero();
+  return (first_position / 1000.0).array().round().matrix() * 1000.0;
+}
+
+Eigen::Vector3d automatic_local_origin(const Sequence& seq) {
+  if (seq.has_poses()) return local_origin_near(seq.poses.front().translation());
+  if (!seq.world_frame || seq.size() == 0) return Eigen::Vector3d::Zero();  // odometry: its own frame
+  const Scan first = read_raw_scan(seq, 0);
+  if (first.pose) return local_origin_near(first.pose->translation());
+  for (Eigen::Index i = 0; i < first.points.cols(); ++i) {
+    if (first.points.col(i).allFinite()) return local_origin_near(first.points.col(i).cast<double>());
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+void set_local_origin(Sequence& seq, const Eigen::Vector3d& origin) {
+  const Eigen::Vector3d change = origin - seq.origin;
+  for (auto& pose : seq.poses) pose.translation() -= change;
+  seq.origin = origin;
+  if (seq.world_frame) seq.cloud.shift = origin;
+}
+
 LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   LoadedScan out;
   out.scan = read_raw_scan(seq, index);
@@ -205,7 +228,9 @@ LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   }
   scan.stamp = seq.times[index];
   if (seq.has_poses()) scan.pose = seq.poses[index];
-  if (seq.world_frame && !scan.pose) scan.pose = Eigen::Isometry3d::Identity();  // VIEWPOINT at origin
+  if (seq.world_frame && !scan.pose) {  // VIEWPOINT at the frame's origin
+    scan.pose = Eigen::Isometry3d(Eigen::Translation3d(-seq.origin));
+  }
   out.dropped_non_finite = drop_non_finite(scan);
   if (out.dropped_non_finite > 0 && !out.labels.empty()) {
     std::vector<std::uint32_t> kept(scan.size());

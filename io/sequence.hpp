@@ -50,6 +50,9 @@ struct Sequence {
   std::string poses_source;
   std::optional<Eigen::Isometry3d> calib_tr;  // KITTI velodyne -> camera 0
   bool world_frame = false;  // scans are already registered (DynamicMap); pose = VIEWPOINT
+  // The local frame's origin in the poses' frame (world = local + origin): `poses` and
+  // world-frame scans, as load_scan reads them, are relative to it (set_local_origin).
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   CloudReadOptions cloud;
   // Layouts whose scans are not point files ("rosbag", "ros2bag": messages; "tum-rgbd": depth
   // images), read by index.
@@ -62,6 +65,18 @@ struct Sequence {
 };
 
 Sequence open_sequence(const std::filesystem::path& folder, const SequenceOptions& options = {});
+
+// Georeferenced poses (UTM: hundreds to thousands of km) leave float points a grid of up to
+// 0.5 m and OctoMap's 16-bit keys no room (they reach 9.8 km from the map's origin at 0.3 m):
+// a run works relative to a local origin near its log. This one is the log's first position
+// (its first pose, else its first world-frame point) rounded to the kilometre, so that a log
+// within 500 m of its frame's origin keeps that origin, and logs of one area mostly share one.
+Eigen::Vector3d local_origin_near(const Eigen::Vector3d& first_position);
+Eigen::Vector3d automatic_local_origin(const Sequence& sequence);
+
+// Re-expresses the sequence's poses, and its world-frame scans as load_scan reads them,
+// relative to `origin` (in the poses' frame). Call once, before any scan is loaded.
+void set_local_origin(Sequence& sequence, const Eigen::Vector3d& origin);
 
 struct LoadedScan {
   Scan scan;                          // NaN/inf points dropped, stamp and pose set

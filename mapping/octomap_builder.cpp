@@ -137,16 +137,22 @@ struct RayOrigins {
 };
 
 // The cells of `points` within `max_range` of where the sensor was when it fired each one:
-// what insert marks occupied and pin keeps.
-void add_hit_cells(const octomap::OcTree& tree, double max_range, const Eigen::Matrix3Xf& points,
-                   const RayOrigins& origin_of, CellSet& cells) {
+// what insert marks occupied and pin keeps. Returns how many of them lie beyond the tree's
+// 16-bit keys (they are left out).
+std::size_t add_hit_cells(const octomap::OcTree& tree, double max_range, const Eigen::Matrix3Xf& points,
+                          const RayOrigins& origin_of, CellSet& cells) {
   const double max_sq = max_range * max_range;
+  std::size_t beyond = 0;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if ((points.col(i).cast<double>() - origin_of(i)).squaredNorm() > max_sq) continue;
     octomap::OcTreeKey key;
-    if (tree.coordToKeyChecked(points(0, i), points(1, i), points(2, i), key))
+    if (tree.coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) {
       cells.insert(key_of(key));
+    } else {
+      ++beyond;
+    }
   }
+  return beyond;
 }
 
 }  // namespace
@@ -161,7 +167,7 @@ void OctoMapBuilder::insert(const Eigen::Matrix3Xf& points, const Eigen::VectorX
   // Occupied cells from every point (one update per cell); free space carved by rays to a
   // sparser subsample only: rays are the cost, and neighbouring rays cross the same cells.
   CellSet occupied;
-  add_hit_cells(*tree_, config_.max_range, points, origin_of, occupied);
+  beyond_reach_ += add_hit_cells(*tree_, config_.max_range, points, origin_of, occupied);
   const double voxel = config_.insert_voxel > 0 ? config_.insert_voxel : config_.resolution;
   auto rays = voxel_downsample(points, voxel);
   // In firing order: carve_ray stops where earlier rays carved on, which holds for rays from

@@ -63,12 +63,18 @@ class OctoMapBuilder {
   std::size_t occupy_pinned();
 
   std::size_t leaf_count() const;
+  // Points inserted so far that lay beyond the tree's 16-bit keys (32768 cells from its origin
+  // along each axis: 9.8 km at 0.3 m), left out of the map.
+  std::size_t points_beyond_reach() const { return beyond_reach_; }
+  // How far the tree reaches from its origin along each axis, m.
+  double reach() const { return config_.resolution * 32768.0; }
   const octomap::OcTree& tree() const { return *tree_; }
 
  private:
   MapConfig config_;
   std::unique_ptr<octomap::OcTree> tree_;
   std::unique_ptr<CellSet> pinned_;
+  std::size_t beyond_reach_ = 0;
 };
 
 }  // namespace cleanmap

@@ -29,8 +29,9 @@ void OnlineMapper::start(bool given_poses) {
   options_->offline = false;
   options_->streamed = true;
   options_->on_scan = [this](const ScoredScan& r, std::vector<std::uint32_t> labels, std::vector<float> scores) {
-    ready_.push_back({r.index, std::move(labels), std::move(scores),
-                      r.scan.pose ? *r.scan.pose : Eigen::Isometry3d::Identity()});
+    Eigen::Isometry3d pose = r.scan.pose ? *r.scan.pose : Eigen::Isometry3d::Identity();
+    pose.translation() += run_->seq.origin;  // back in the pushed poses' frame
+    ready_.push_back({r.index, std::move(labels), std::move(scores), pose});
   };
   Sequence stream;
   stream.layout = "stream";
@@ -63,7 +64,12 @@ std::vector<MapperResult> OnlineMapper::push(Scan scan) {
   scan.input_size = scan.size();
   loaded.dropped_non_finite = drop_non_finite(scan);
   loaded.scan = std::move(scan);
-  if (given) run_->seq.poses.push_back(*loaded.scan.pose);
+  if (given) {
+    // As `run` does with given poses: a local origin near the first one (io/sequence.hpp).
+    if (pushed_ == 0) run_->seq.origin = local_origin_near(loaded.scan.pose->translation());
+    loaded.scan.pose->translation() -= run_->seq.origin;
+    run_->seq.poses.push_back(*loaded.scan.pose);
+  }
   run_->seq.times.push_back(loaded.scan.stamp);
   waiting_.push_back(std::move(loaded));
   ++pushed_;
@@ -132,6 +138,10 @@ void OnlineMapper::step(LoadedScan loaded, bool last, const LoadedScan* next) {
     run_->map_scan(r);
     run_->write_scan(r, labels);
   }
+}
+
+Eigen::Vector3d OnlineMapper::map_origin() const {
+  return run_ ? run_->seq.origin : Eigen::Vector3d::Zero();
 }
 
 Eigen::Matrix3Xf OnlineMapper::static_points() const {

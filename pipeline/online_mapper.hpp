@@ -49,8 +49,11 @@ class OnlineMapper {
   std::vector<MapperResult> push(Scan scan);
   // The end of the stream: every scan still held.
   std::vector<MapperResult> finish();
-  // The map's static points so far (world frame, the static cloud's voxel filter).
+  // The map's static points so far (the static cloud's voxel filter), relative to map_origin().
   Eigen::Matrix3Xf static_points() const;
+  // The map's local origin in the pushed poses' frame: the first pose rounded to the kilometre
+  // (zero without poses). Results' poses are in the pushed frame.
+  Eigen::Vector3d map_origin() const;
   std::size_t scans_pushed() const { return pushed_; }
 
  private:

@@ -39,7 +39,25 @@ Sequence open_checked(const PipelineOptions& opt, const PipelineConfig& cfg) {
     throw Error(msg);
   }
   validate(cfg.input.platform);
-  return open_sequence(opt.input, sequence_options(cfg.input));
+  const auto& origin = cfg.input.map_origin;
+  if (!origin.empty() && (origin.size() != 3 || !Eigen::Vector3d(origin[0], origin[1], origin[2]).allFinite())) {
+    throw Error("--map-origin (input.map_origin) takes 3 finite numbers: x y z, m");
+  }
+  Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
+  // Estimated poses start at the odometry's own origin: given ones (or world-frame scans) may
+  // be georeferenced.
+  const bool estimated = opt.odometry && !seq.world_frame;
+  if (!origin.empty()) {
+    set_local_origin(seq, Eigen::Vector3d(origin[0], origin[1], origin[2]));
+  } else if (!estimated) {
+    set_local_origin(seq, automatic_local_origin(seq));
+  }
+  if (!seq.origin.isZero()) {
+    std::fprintf(stderr, "%s: map origin (%.3f, %.3f, %.3f) m in the poses' frame: the map files (map.bt, map.ot, "
+                 "map_*.pcd/ply, map_2d) are relative to it (summary.json: map_origin)\n",
+                 opt.command.c_str(), seq.origin.x(), seq.origin.y(), seq.origin.z());
+  }
+  return seq;
 }
 
 // The visibility map weighs hits and misses as the OctoMap does.
@@ -178,6 +196,8 @@ void PipelineRun::describe(nlohmann::json& summary) const {
   summary["mode"] = offline ? "offline" : "online";
   summary["times"] = seq.times_source;
   summary["poses"] = use_odometry ? "odometry" : seq.world_frame ? "VIEWPOINT (world-frame scans)" : seq.poses_source;
+  // world = map + map_origin: the map files' coordinates are relative to it.
+  summary["map_origin"] = {seq.origin.x(), seq.origin.y(), seq.origin.z()};
   summary["input_settings"] = to_json(cfg.input, input_fields());
   summary["scorer"] = to_json(cfg.scorer, scorer_fields());
   if (use_odometry) summary["odometry"] = to_json(cfg.odometry, odometry_fields());

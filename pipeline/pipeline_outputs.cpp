@@ -167,7 +167,16 @@ void PipelineRun::write_maps() {
 }
 
 void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
-  if (opt.mapping) summary["octomap_leaves"] = octo->leaf_count();
+  if (opt.mapping) {
+    summary["octomap_leaves"] = octo->leaf_count();
+    summary["octomap_points_beyond_reach"] = octo->points_beyond_reach();
+    if (octo->points_beyond_reach() > 0) {
+      std::fprintf(stderr, "%s: warning: %zu points lay beyond the OctoMap's reach (%.0f m from the map origin "
+                   "at %g m cells) and are not in map.bt / map.ot: give --map-origin near the log, or coarser "
+                   "--resolution\n", opt.command.c_str(), octo->points_beyond_reach(), octo->reach(),
+                   cfg.mapping.map.resolution);
+    }
+  }
   if (opt.mapping && offline) summary["octomap_cells_pinned"] = cells_pinned;
   if (offline) summary["spill_bytes"] = spill_bytes;
   if (use_odometry) {

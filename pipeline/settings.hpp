@@ -32,6 +32,9 @@ struct InputSettings {
   std::string bag_child_frame;    // ROS bag input with tf: the sensor frame
   std::string camera;             // depth-image input: intrinsics file; default <input>/camera.yaml
   PlatformMaskConfig platform;    // the recording platform's own returns, masked
+  // The map's local origin in the poses' frame, x y z (empty: the log's first position rounded
+  // to the kilometre, io/sequence.hpp). Runs to be merged into one map give the same one.
+  std::vector<double> map_origin;
 };
 
 inline auto input_fields() {
@@ -54,7 +57,9 @@ inline auto input_fields() {
       CLEANMAP_FIELD_IN("self_mask_range", platform.max_range, kPositive, "Only points this close can be the platform, m"),
       CLEANMAP_FIELD_IN("self_mask_voxel", platform.voxel, kPositive, "Sensor-frame cell of the platform mask, m"),
       CLEANMAP_FIELD_IN("self_mask_share", platform.min_share, kShare, "Share of scans a platform cell is occupied in"),
-      CLEANMAP_FIELD("crop_box", platform.crop_box, "Sensor-frame box always masked: xmin ymin zmin xmax ymax zmax, m"));
+      CLEANMAP_FIELD("crop_box", platform.crop_box, "Sensor-frame box always masked: xmin ymin zmin xmax ymax zmax, m"),
+      CLEANMAP_FIELD("map_origin", map_origin,
+                     "Map's local origin in the poses' frame, x y z m (default: first position rounded to 1 km)"));
 }
 
 inline SequenceOptions sequence_options(const InputSettings& s) {

@@ -210,7 +210,15 @@ PYBIND11_MODULE(cleanmap, m) {
              }
              return results(std::move(out));
            })
-      .def("static_points", [](const pipeline::OnlineMapper& mapper) { return take_points(mapper.static_points()); });
+      .def("static_points", [](const pipeline::OnlineMapper& mapper) { return take_points(mapper.static_points()); },
+           "The map's static points (N x 3 float32), relative to map_origin")
+      .def_property_readonly(
+          "map_origin",
+          [](const pipeline::OnlineMapper& mapper) {
+            const Eigen::Vector3d o = mapper.map_origin();
+            return py::array_t<double>(3, o.data());
+          },
+          "The map's local origin in the pushed poses' frame (the first pose rounded to 1 km)");
 
   m.def("run", &run, "input"_a, "out"_a, "cfg"_a = py::none(), "online"_a = false,
         "What `cleanmap run` does; returns summary.json as a dict");

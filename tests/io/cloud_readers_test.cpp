@@ -89,6 +89,25 @@ TEST(CloudReaders, AsciiValuesAndNaNPointsReadExactly) {
   test::expect_error([&] { read_cloud(dir / "range.pcd"); }, {"range.pcd", "'256' is not a value of field 'intensity'"});
 }
 
+// A world-frame cloud at UTM coordinates in double fields keeps its precision relative to a
+// local origin: the shift is taken off in double, before the float (which at 5e6 m holds a
+// 0.5 m grid: 5000000.3 would read as 5000000.5).
+TEST(CloudReaders, AShiftIsTakenOffInDoubleBeforeTheFloat) {
+  test::TempDir dir;
+  write_bytes(dir / "utm.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
+                               "HEIGHT 1\nVIEWPOINT 500010 5000020 30 1 0 0 0\nPOINTS 1\nDATA ascii\n"
+                               "500012.25 5000000.3 31.5\n");
+  CloudReadOptions o;
+  o.shift = Eigen::Vector3d(500000, 5000000, 0);
+  const Scan s = read_cloud(dir / "utm.pcd", o);
+  EXPECT_EQ(s.points(0, 0), 12.25f);
+  EXPECT_EQ(s.points(1, 0), static_cast<float>(5000000.3 - 5000000.0));
+  EXPECT_EQ(s.points(2, 0), 31.5f);
+  ASSERT_TRUE(s.pose.has_value());
+  EXPECT_EQ(s.pose->translation(), Eigen::Vector3d(10, 20, 30));
+  EXPECT_EQ(read_cloud(dir / "utm.pcd").points(1, 0), 5000000.5f);  // without the shift
+}
+
 TEST(CloudReaders, ViewpointMustBeFinite) {
   test::TempDir dir;
   std::string h = pcd_header("1", "ascii");
