@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_for.h>
 #include <tsl/robin_set.h>
 
 #include "geometry/voxel_key.hpp"
@@ -78,9 +79,14 @@ VisibilityMap visibility_around(const Eigen::Matrix3Xf& around, const std::vecto
   // covers the ray's start a margin short of its point and its subsampling to one point per
   // cell, and the sensor's travel over the sweep covers rays cast from where it was then.
   const double reach_radius = 0.5 * std::sqrt(3.0) * res + res;
+  // Each scan's rays that can pass the cells of interest, and later their casts, side by side
+  // (cast is const); hits and counts go in scan order, as they number the scans. An online run
+  // judges its first and last scans with this in the scoring stage, which every other stage
+  // waits for: one after another, the scans' bins and casts were 1.7 s of the 9 s that the
+  // Pandar64 street took online.
   std::vector<Eigen::Matrix3Xf> rays(scans.size());
   std::vector<Eigen::VectorXf> ray_times(scans.size());
-  for (std::size_t s = 0; s < scans.size(); ++s) {
+  tbb::parallel_for(std::size_t{0}, scans.size(), [&](std::size_t s) {
     const ScanView& v = scans[s];
     const Eigen::Matrix3Xf& p = *v.points;
     const bool timed = v.times != nullptr && v.times->size() == p.cols() && p.cols() > 0;
@@ -97,12 +103,15 @@ VisibilityMap visibility_around(const Eigen::Matrix3Xf& around, const std::vecto
     for (Eigen::Index i = 0; i < p.cols(); ++i) {
       if (bins.reaches(p.col(i).cast<double>() - v.origin)) reach.push_back(i);
     }
-    map.add_hits(p, v.origin);
     rays[s] = p(Eigen::all, reach);
     if (timed) ray_times[s] = (*v.times)(reach);
-  }
+  });
+  for (const ScanView& v : scans) map.add_hits(*v.points, v.origin);
   map.fit_surfaces();
-  for (std::size_t s = 0; s < scans.size(); ++s) map.count(map.cast(rays[s], ray_times[s], scans[s].sensor));
+  std::vector<VisibilityMap::ScanRays> cast(scans.size());
+  tbb::parallel_for(std::size_t{0}, scans.size(),
+                    [&](std::size_t s) { cast[s] = map.cast(rays[s], ray_times[s], scans[s].sensor); });
+  for (const auto& c : cast) map.count(c);
   return map;
 }
 

@@ -216,6 +216,9 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
     stages["judging"] = judging_s;
   }
   summary["stage_seconds"] = stages;
+  // The scoring stage's two halves: the scorer's preparation of a scan (downsampling, ground,
+  // its cells) runs in a stage of its own, beside the scoring of the scan before.
+  summary["scoring_seconds"] = {{"preparing", preparing_s}, {"scoring", scoring_s}};
   // The rate a live sensor would see: input scans through the whole pipeline per second in
   // the steady state, from the first scan that released output to the one before the last
   // (the scorer's first full window releases N scans at once; after the last scan, the held
