@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
+
 #include "io/error.hpp"
 
 namespace cleanmap {
@@ -44,6 +46,26 @@ SqliteBagReader::SqliteBagReader(const fs::path& file) : file_(file) {
     fail(file, "cannot open as sqlite3 (" + why + ")");
   }
   try {
+    // The file is data, never code (issue 45: a 4 KB .db3 whose `messages` was a VIEW over an
+    // endless recursive query hung the run; another's VIEW made a 900 MB blob). What a schema
+    // defines runs with no trust (no functions with side effects), no value is longer than the
+    // file, and topics and messages must be the plain tables rosbag2 writes.
+    sqlite3_db_config(db_, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, nullptr);
+    const auto bytes = fs::file_size(file, ec);
+    sqlite3_limit(db_, SQLITE_LIMIT_LENGTH, static_cast<int>(std::min<std::uintmax_t>(ec ? 1 : std::max<std::uintmax_t>(bytes, 1), 1u << 30)));
+    {
+      Statement schema(db_, "SELECT name, type, sql FROM sqlite_master WHERE name IN ('topics', 'messages')", file_);
+      int tables = 0;
+      while (sqlite3_step(schema.s) == SQLITE_ROW) {
+        const std::string name = text(schema.s, 0), type = text(schema.s, 1), sql = text(schema.s, 2);
+        if (type != "table" || sql.rfind("CREATE TABLE", 0) != 0) {
+          fail(file, "'" + name + "' is a " + (type == "table" ? "virtual table" : type) +
+                         ", not the table rosbag2 writes: not read (the file's own code is never run)");
+        }
+        ++tables;
+      }
+      if (tables != 2) fail(file, "not a rosbag2 sqlite3 file (no 'topics' and 'messages' tables)");
+    }
     Statement check(db_, "SELECT count(*) FROM topics", file_);  // a random file fails here
     if (sqlite3_step(check.s) != SQLITE_ROW) fail(file, std::string("unreadable (") + sqlite3_errmsg(db_) + ")");
   } catch (...) {  // no destructor runs for a constructor that throws: close here

@@ -151,11 +151,10 @@ TEST(OutputPolicy, CtrlCStopsAtTheNextScanAndSaysSoInTheSummary) {
   EXPECT_NE(s.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.dump();
 }
 
-TEST(OutputPolicy, SigtermStopsAtTheNextScanAndExits143) {
-  test::TempDir dir;
-  const fs::path out = dir / "out";
+// A demo run under way, then `sig`: its exit status.
+int exit_after_signal(const fs::path& out, int sig) {
   const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
+  if (pid < 0) return -1;
   if (pid == 0) {
     const int null = ::open("/dev/null", O_WRONLY);
     dup2(null, 1);
@@ -168,14 +167,30 @@ TEST(OutputPolicy, SigtermStopsAtTheNextScanAndExits143) {
   for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  kill(pid, SIGTERM);
+  kill(pid, sig);
   int status = 0;
   waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 143);  // 128 + SIGTERM, as a shell reports it (issue 45: it was 130)
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+TEST(OutputPolicy, SigtermStopsAtTheNextScanAndExits143) {
+  test::TempDir dir;
+  const fs::path out = dir / "out";
+  EXPECT_EQ(exit_after_signal(out, SIGTERM), 143);  // 128 + SIGTERM, as a shell reports it (issue 45: it was 130)
   const auto s = summary(out);
   EXPECT_FALSE(s["complete"].get<bool>());
   EXPECT_NE(s.value("error", "").find("interrupted by SIGTERM"), std::string::npos) << s.dump();
+}
+
+// A closed terminal or ssh session (issue 45: SIGHUP killed the run, 1000 + 1 here, and left
+// no summary).
+TEST(OutputPolicy, SighupStopsAtTheNextScanAndExits129) {
+  test::TempDir dir;
+  const fs::path out = dir / "out";
+  EXPECT_EQ(exit_after_signal(out, SIGHUP), 129);
+  const auto s = summary(out);
+  EXPECT_FALSE(s["complete"].get<bool>());
+  EXPECT_NE(s.value("error", "").find("interrupted by SIGHUP"), std::string::npos) << s.dump();
 }
 
 TEST(OutputPolicy, ASummaryCutShortByAFullDiskNeverReplacesTheLastOne) {

@@ -105,6 +105,23 @@ TEST(Ros2SqliteFixture, TheRowsHoldTheHandCheckedMessage) {
   test::expect_error([&] { load_scan(seq, 0); }, {"/points#0", "has no x, y, z fields"});
 }
 
+// A .db3 is data: its `messages` a VIEW over an endless recursive query (issue 45: a 4 KB file
+// that hung the run for good) is refused by name, before any query runs it.
+TEST(Ros2BagErrors, ASchemaThatDefinesCodeIsNeverRun) {
+  test::TempDir dir;
+  test::write_ros2_bag(dir / "view", "sqlite3", McapCompression::kNone, 2);
+  const fs::path db3 = dir / "view" / "log_0.db3";
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(db3.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE messages; CREATE VIEW messages AS WITH RECURSIVE r(id) AS "
+                             "(SELECT 1 UNION ALL SELECT id + 1 FROM r) SELECT id, 1 AS topic_id, "
+                             "id AS timestamp, zeroblob(900000000) AS data FROM r;",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  test::expect_error([&] { open_sequence(dir / "view"); }, {"log_0.db3", "'messages' is a view", "never run"});
+}
+
 TEST(Ros2BagErrors, EachBrokenBagIsOneClearError) {
   test::TempDir dir;
   test::write_ros2_bag(dir / "z", "mcap", McapCompression::kZstd, 3);
