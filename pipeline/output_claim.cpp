@@ -1,6 +1,12 @@
 #include "pipeline/output_claim.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <climits>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -63,10 +69,41 @@ void check_inputs(const OutputRequest& r) {
   }
 }
 
+constexpr const char* kLockName = ".lock";
+
+// Holds OUT/.lock (created if need be) or refuses, naming the process that holds it. `created`:
+// the lock file is new (removed again if the claim is refused).
+OutputLock hold(const fs::path& out, bool& created) {
+  const fs::path file = out / kLockName;
+  std::error_code ec;
+  created = !fs::exists(file, ec);
+  const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) fail(out, std::string("cannot create its lock file .lock (") + std::strerror(errno) + ")");
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    char holder[64] = {0};
+    const ssize_t n = ::pread(fd, holder, sizeof holder - 1, 0);
+    ::close(fd);
+    std::string who(holder, n > 0 ? static_cast<std::size_t>(n) : 0);
+    while (!who.empty() && (who.back() == '\n' || who.back() == ' ')) who.pop_back();
+    fail(out, "is in use by another cleanmap command (" + (who.empty() ? std::string("process unknown") : who) +
+                  " holds OUT/.lock): wait for it to end, or choose another --out");
+  }
+  return OutputLock(fd);
+}
+
+// Names this process in the held lock file, once OUT is known to be this command's.
+void stamp(const fs::path& out, int fd) {
+  const std::string me = "pid " + std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, me.data(), me.size(), 0) != static_cast<ssize_t>(me.size())) {
+    fail(out, std::string("cannot write its lock file .lock (") + std::strerror(errno) + ")");
+  }
+}
+
 // Empties an earlier cleanmap output for --overwrite; refuses folders cleanmap did not write.
+// The lock file, held by this command, stays.
 void empty_earlier_output(const OutputRequest& r) {
   std::size_t entries = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(r.out)) ++entries;
+  for (const auto& e : fs::directory_iterator(r.out)) entries += e.path().filename() != kLockName;
   if (entries == 0) return;
   if (!r.overwrite) {
     fail(r.out, "is not empty (" + std::to_string(entries) + " entries, from an earlier run?): pass --overwrite to " +
@@ -84,6 +121,7 @@ void empty_earlier_output(const OutputRequest& r) {
                 "output; choose a new folder");
   }
   for (const auto& e : fs::directory_iterator(r.out)) {
+    if (e.path().filename() == kLockName) continue;
     std::error_code ec;
     fs::remove_all(e.path(), ec);  // a symbolic link goes, never what it points to
     if (ec) fail(e.path(), "cannot remove for --overwrite (" + ec.message() + ")");
@@ -92,18 +130,40 @@ void empty_earlier_output(const OutputRequest& r) {
 
 }  // namespace
 
-void claim_output(const OutputRequest& r) {
+OutputLock& OutputLock::operator=(OutputLock&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = o.fd_;
+    o.fd_ = -1;
+  }
+  return *this;
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing the last descriptor releases the flock
+}
+
+OutputLock claim_output(const OutputRequest& r) {
   check_path(r.out);
   check_inputs(r);
   std::error_code ec;
   if (fs::exists(r.out, ec) && !fs::is_directory(r.out, ec)) fail(r.out, "exists and is not a folder");
-  if (fs::is_directory(r.out, ec)) empty_earlier_output(r);
   make_dirs(r.out);
+  bool created = false;
+  OutputLock lock = hold(r.out, created);
+  try {
+    empty_earlier_output(r);
+  } catch (...) {
+    if (created) fs::remove(r.out / kLockName, ec);  // a refused folder is left as it was
+    throw;
+  }
+  stamp(r.out, lock.fd());
   write_summary(r.out, {{"command", r.command}}, false);
+  return lock;
 }
 
 void run_guarded(const OutputRequest& r, const std::function<void()>& body, bool handle_signals) {
-  claim_output(r);
+  const OutputLock lock = claim_output(r);
   if (handle_signals) install_interrupt_handler();
   auto mark = [&](const std::string& message) {
     nlohmann::json summary{{"command", r.command}};

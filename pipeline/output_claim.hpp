@@ -21,7 +21,27 @@ struct OutputRequest {
 // --overwrite an earlier cleanmap output (it has a summary.json) is emptied first, so no file
 // of the earlier run stays beside the new summary; any other non-empty folder is refused.
 // Then OUT exists and holds summary.json with "complete": false.
-void claim_output(const OutputRequest& request);
+//
+// OUT is held for the whole command by an advisory lock (flock on OUT/.lock, which names the
+// holder's process): a second command on a held OUT is refused, naming that process, before
+// it touches anything (issue 45: run B's --overwrite emptied OUT while run A wrote there, and A
+// reported 100 scans complete beside 85 label files). The lock ends with the returned object
+// (or the process).
+class OutputLock {
+ public:
+  OutputLock() = default;
+  explicit OutputLock(int fd) : fd_(fd) {}
+  OutputLock(OutputLock&& o) noexcept : fd_(o.fd_) { o.fd_ = -1; }
+  OutputLock& operator=(OutputLock&& o) noexcept;
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+  ~OutputLock();
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+};
+[[nodiscard]] OutputLock claim_output(const OutputRequest& request);
 
 // claim_output, then the command's body. Whatever stops the body (bad input, a failed write,
 // Ctrl-C) leaves OUT/summary.json with "complete": false and the message before it reaches main.

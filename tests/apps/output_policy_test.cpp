@@ -151,11 +151,11 @@ TEST(OutputPolicy, CtrlCStopsAtTheNextScanAndSaysSoInTheSummary) {
   EXPECT_NE(s.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.dump();
 }
 
-// A demo run under way, then `sig`: its exit status.
-int exit_after_signal(const fs::path& out, int sig) {
+// A demo run under way (400 scans: tens of seconds), its process.
+pid_t start_demo(const fs::path& out) {
   const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
+  if (pid != 0) return pid;
+  {
     const int null = ::open("/dev/null", O_WRONLY);
     dup2(null, 1);
     dup2(null, 2);
@@ -163,6 +163,12 @@ int exit_after_signal(const fs::path& out, int sig) {
           out.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
+}
+
+// A demo run under way, then `sig`: its exit status.
+int exit_after_signal(const fs::path& out, int sig) {
+  const pid_t pid = start_demo(out);
+  if (pid < 0) return -1;
   // Wait until the run is under way (its summary exists), then interrupt it.
   for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -180,6 +186,33 @@ TEST(OutputPolicy, SigtermStopsAtTheNextScanAndExits143) {
   const auto s = summary(out);
   EXPECT_FALSE(s["complete"].get<bool>());
   EXPECT_NE(s.value("error", "").find("interrupted by SIGTERM"), std::string::npos) << s.dump();
+}
+
+// Two commands on one OUT (issue 45: B's --overwrite emptied OUT while A wrote there, and A
+// reported 100 scans complete beside 85 label files): B is refused, naming A, and touches nothing.
+TEST(OutputPolicy, ASecondCommandOnAHeldOutIsRefusedNamingTheHolder) {
+  test::TempDir dir;
+  const fs::path out = dir / "out";
+  const pid_t a = start_demo(out);
+  ASSERT_GT(a, 0);
+  for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::size_t before = 0;
+  for ([[maybe_unused]] const auto& e : fs::recursive_directory_iterator(out)) ++before;
+  const auto b = test::cli("demo --scans 5 --overwrite --out " + out.string());
+  EXPECT_EQ(b.code, 1) << b.output;
+  EXPECT_NE(b.output.find("in use by another cleanmap command (pid " + std::to_string(a)), std::string::npos) << b.output;
+  EXPECT_TRUE(fs::exists(out / "sequence" / "scans" / "000005.pcd"));  // nothing of A's removed
+  std::size_t after = 0;
+  for ([[maybe_unused]] const auto& e : fs::recursive_directory_iterator(out)) ++after;
+  EXPECT_GE(after, before);
+  kill(a, SIGTERM);
+  int status = 0;
+  waitpid(a, &status, 0);
+  // Once A has ended, OUT is free again.
+  const auto c = test::cli("demo --scans 5 --beams 16 --columns 256 --overwrite --out " + out.string());
+  EXPECT_EQ(c.code, 0) << c.output;
 }
 
 // A closed terminal or ssh session (issue 45: SIGHUP killed the run, 1000 + 1 here, and left
