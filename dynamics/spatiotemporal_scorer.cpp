@@ -411,7 +411,7 @@ double SpatiotemporalScorer::fast_statistics_drift() const {
       const Moments4* kept = s.cells[g].find(key);
       if (!kept) return std::numeric_limits<double>::infinity();
       drift = std::max({drift, std::abs(m.n - kept->n), (m.sum - kept->sum).cwiseAbs().maxCoeff(),
-                        (m.sum_sq - kept->sum_sq).cwiseAbs().maxCoeff()});
+                        (m.sq - kept->sq).cwiseAbs().maxCoeff()});
     }
   }
   return drift;

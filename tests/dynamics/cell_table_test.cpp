@@ -51,7 +51,7 @@ TEST(CellTable, MatchesAPlainMapThroughAddsAndSubtracts) {
         if (!got) continue;
         EXPECT_NEAR(got->n, it->second.first.n, 1e-9);
         EXPECT_NEAR((got->sum - it->second.first.sum).norm(), 0.0, 1e-6);
-        EXPECT_NEAR((got->sum_sq - it->second.first.sum_sq).norm(), 0.0, 1e-6);
+        EXPECT_NEAR((got->sum_sq() - it->second.first.sum_sq()).norm(), 0.0, 1e-6);
       }
     }
   }
