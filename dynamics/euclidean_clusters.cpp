@@ -76,11 +76,13 @@ std::vector<std::int32_t> clusters_on_voxels(const Eigen::Matrix3Xf& points,
 
 void validate(const ObjectRule& r, const std::string& who) {
   auto bad = [&](const std::string& what) { throw Error(who + ": " + what); };
-  if (!std::isfinite(r.radius) || !(r.radius > 0)) bad("cluster radius must be positive");
+  // A cluster grows through points this close: beyond a few metres one street is one object,
+  // and each search costs the radius cubed (issue 45: a radius of 1e308 took 30 s on 6 scans).
+  if (!std::isfinite(r.radius) || !(r.radius > 0 && r.radius <= 10)) bad("cluster radius must be in (0, 10] m");
   if (r.min_votes < 1) bad("a cluster needs at least 1 vote");
   if (!(r.min_fraction >= 0 && r.min_fraction <= 1)) bad("cluster vote fraction must be in [0, 1]");
-  if (!(r.max_extent > 0)) bad("cluster max extent must be positive");
-  if (!(r.min_split_radius > 0)) bad("cluster min split radius must be positive");
+  if (!(r.max_extent > 0 && r.max_extent <= 1000)) bad("cluster max extent must be in (0, 1000] m");
+  if (!(r.min_split_radius > 0 && r.min_split_radius <= 10)) bad("cluster min split radius must be in (0, 10] m");
 }
 
 std::vector<ClusterVerdict> vote_clusters(const Eigen::Matrix3Xf& points,

@@ -132,6 +132,8 @@ void attach_times(Sequence& seq, const fs::path& folder, const SequenceOptions& 
 }  // namespace
 
 Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
+  // (issue 45: `--input ''` said only ": no such folder")
+  if (folder.empty()) throw Error("input: empty path (name a log folder, or a .bag file)");
   if (folder.extension() == ".bag") return open_bag(folder, options);
   if (is_tum_rgbd(folder)) return open_tum_rgbd(folder, options);
   if (is_ros2_bag(folder)) {

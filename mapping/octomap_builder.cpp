@@ -91,6 +91,9 @@ void write_checked(const std::filesystem::path& file, Write&& write) {
 
 }  // namespace
 
+// 30 m at 3 mm, 300 m at 3 cm: finer than any range noise a sensor has.
+constexpr double kMaxCellsPerRay = 10000.0;
+
 void validate(const MapConfig& c) {
   auto bad = [](const std::string& what) { throw Error("mapping: " + what); };
   if (!(c.resolution > 0)) bad("resolution must be positive");
@@ -103,6 +106,14 @@ void validate(const MapConfig& c) {
   if (c.insert_voxel < 0) bad("insert_voxel must be >= 0");
   // OctoMap's keys are 16-bit: a tree reaches 32768 leaves from its origin, and rays beyond that
   // fail one error line per point (a 1e-9 m resolution printed 19k of them).
+  // A ray walks max_range / resolution cells, and a scan casts thousands of rays (issue 45:
+  // --resolution 0.001 passed the check below and a run never ended).
+  if (c.max_range / c.resolution > kMaxCellsPerRay) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "resolution %g m is too fine for map_max_range %g m: a ray would walk %.0f cells "
+                  "(at most %.0f)", c.resolution, c.max_range, c.max_range / c.resolution, kMaxCellsPerRay);
+    bad(msg);
+  }
   if (c.resolution * 32768.0 < c.max_range) {
     char msg[200];
     std::snprintf(msg, sizeof msg, "resolution %g m is too fine for map_max_range %g m (OctoMap's 16-bit keys reach "
@@ -221,7 +232,10 @@ std::vector<std::uint8_t> OctoMapBuilder::hits_in_free_space(const Eigen::Matrix
   // Read-only searches: safe in parallel.
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024), [&](const auto& r) {
   for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
-    const auto* node = tree_->search(points(0, i), points(1, i), points(2, i));
+    // Keys checked first: OctoMap's search prints an error line per point beyond its reach.
+    octomap::OcTreeKey key;
+    if (!tree_->coordToKeyChecked(points(0, i), points(1, i), points(2, i), key)) continue;
+    const auto* node = tree_->search(key);
     if (!node || node->getLogOdds() > free_logodds) continue;
     // Rays grazing a static surface carve the cells it lies in; a real intruder sits in free
     // space, with no occupied cell around it.
@@ -229,7 +243,9 @@ std::vector<std::uint8_t> OctoMapBuilder::hits_in_free_space(const Eigen::Matrix
     for (int dx = -1; dx <= 1 && clear; ++dx) {
       for (int dy = -1; dy <= 1 && clear; ++dy) {
         for (int dz = -1; dz <= 1 && clear; ++dz) {
-          const auto* n = tree_->search(points(0, i) + dx * res, points(1, i) + dy * res, points(2, i) + dz * res);
+          octomap::OcTreeKey near;
+          if (!tree_->coordToKeyChecked(points(0, i) + dx * res, points(1, i) + dy * res, points(2, i) + dz * res, near)) continue;
+          const auto* n = tree_->search(near);
           clear = !(n && tree_->isNodeOccupied(n));
         }
       }

@@ -8,7 +8,9 @@
 #include <climits>
 #include <cstring>
 #include <fstream>
+#include <chrono>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "pipeline/interrupt.hpp"
 #include "pipeline/output_dir.hpp"
@@ -164,8 +166,7 @@ OutputLock claim_output(const OutputRequest& r) {
 
 void run_guarded(const OutputRequest& r, const std::function<void()>& body, bool handle_signals) {
   const OutputLock lock = claim_output(r);
-  if (handle_signals) install_interrupt_handler();
-  auto mark = [&](const std::string& message) {
+  auto mark = [&r](const std::string& message) {
     nlohmann::json summary{{"command", r.command}};
     try {
       std::ifstream f(r.out / "summary.json");
@@ -178,13 +179,29 @@ void run_guarded(const OutputRequest& r, const std::function<void()>& body, bool
       // The folder may be what failed (removed, full): the message still reaches main.
     }
   };
+  // The command's own stop and the watchdog's (a scan still running a second after a signal)
+  // each mark the summary; only the first does.
+  auto mark_once = [&](const std::string& message) {
+    if (!handle_signals || claim_last_words()) {
+      mark(message);
+      return;
+    }
+    for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));  // the watchdog ends the process
+  };
+  if (handle_signals) install_interrupt_handler(mark);
+  struct Forget {
+    bool on;
+    ~Forget() {
+      if (on) forget_last_words();
+    }
+  } forget{handle_signals};
   try {
     body();
   } catch (const Error& e) {
-    mark(e.what());
+    mark_once(e.what());
     throw;
   } catch (const std::exception& e) {
-    mark(std::string("internal error: ") + e.what());
+    mark_once(std::string("internal error: ") + e.what());
     throw;
   }
 }

@@ -1,5 +1,6 @@
 #include "pipeline/pipeline.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <iterator>
 
@@ -40,8 +41,9 @@ Sequence open_checked(const PipelineOptions& opt, const PipelineConfig& cfg) {
   }
   validate(cfg.input.platform);
   const auto& origin = cfg.input.map_origin;
-  if (!origin.empty() && (origin.size() != 3 || !Eigen::Vector3d(origin[0], origin[1], origin[2]).allFinite())) {
-    throw Error("--map-origin (input.map_origin) takes 3 finite numbers: x y z, m");
+  // Within 1e8 m: the Earth's surface in any frame people georeference with (ECEF, UTM).
+  if (!origin.empty() && (origin.size() != 3 || !(Eigen::Vector3d(origin[0], origin[1], origin[2]).cwiseAbs().maxCoeff() <= 1e8))) {
+    throw Error("--map-origin (input.map_origin) takes 3 numbers within 1e8 m: x y z");
   }
   Sequence seq = open_sequence(opt.input, sequence_options(cfg.input));
   // Estimated poses start at the odometry's own origin: given ones (or world-frame scans) may
@@ -76,8 +78,10 @@ VisibilityConfig visibility_config(const PipelineConfig& cfg) {
 // beside the scoring of the scan before it: scoring was the stage every other one waited for.
 void first_pass(PipelineRun& run, Progress& progress) {
   std::size_t next = 0, scans_done = 0;
-  std::size_t flushes_left = static_cast<std::size_t>(run.cfg.scorer.window_half) * (run.cfg.scorer.tracks.enabled ? 2 : 1);
   const std::size_t n = run.seq.size();
+  // One flush item per scan held at the end: never more than the log has.
+  std::size_t flushes_left =
+      std::min(n, static_cast<std::size_t>(run.cfg.scorer.window_half) * (run.cfg.scorer.tracks.enabled ? 2 : 1));
   StageFailure failure;
   run_pipeline_stages(
       5, failure,

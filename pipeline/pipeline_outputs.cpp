@@ -142,6 +142,15 @@ void PipelineRun::write_scan(ScoredScan& r, const std::vector<std::uint32_t>& gt
 
 void PipelineRun::write_maps() {
   const auto t = Clock::now();
+  if (opt.mapping) {  // an empty map is no result: nothing is written that looks like one
+    if (octo->points_beyond_reach() > 0 && octo->leaf_count() == 0) {
+      char msg[240];
+      std::snprintf(msg, sizeof msg, "map: every point lay beyond the OctoMap's reach (%.0f m from the map origin at "
+                    "%g m cells): the map would be empty; give --map-origin near the log", octo->reach(),
+                    cfg.mapping.map.resolution);
+      throw Error(msg);
+    }
+  }
   if (opt.mapping && offline) cells_pinned = octo->occupy_pinned();
   // The map files are independent of each other: written side by side, but the large clouds
   // one after another (each write converts a whole cloud for PCL: two at once doubled the peak

@@ -21,10 +21,18 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
   const std::string log = (dir / "demo" / "sequence").string();
   const std::vector<std::pair<std::string, std::string>> cases{
       {"--voxel-size nan", "--voxel-size: must be a finite number"},
-      {"--radius -1", "--radius: must be > 0, not -1"},
+      {"--radius -1", "--radius: must be in [0.001, 100], not -1"},
+      // Issue 45: each of these crashed, hung or ran for minutes (keys overflowing int32, 10^17
+      // neighbour cells, 2^31 flush items, 30,000 cells per ray, a street-wide cluster search).
+      {"--radius 1e-10", "--radius: must be in [0.001, 100], not 1e-10"},
+      {"--cell-size 1e-6", "cell_size must be 0 (= radius) or in [radius / 4, 100] m"},
+      {"--window-half 1073741823", "--window-half: must be in [1, 1000], not 1.07374e+09"},
+      {"--resolution 0.001", "too fine for map_max_range"},
+      {"--free-space-cluster-radius 1e308", "cluster radius must be in (0, 10] m"},
+      {"--map-origin 1e300 0 0", "--map-origin (input.map_origin) takes 3 numbers within 1e8 m"},
       {"--resolution 1e-9", "--resolution: must be in [0.001, 100], not 1e-09"},
       {"--resolution 0.001 --map-max-range 100", "too fine for map_max_range 100 m"},
-      {"--window-half 0", "--window-half: must be >= 1, not 0"},
+      {"--window-half 0", "--window-half: must be in [1, 1000], not 0"},
       {"--prob-hit 2", "--prob-hit: must be in (0.5, 1], not 2"},
       {"--occupancy-grid --grid-z-min 3 --grid-z-max 2", "--grid-z-min (mapping.grid_z_min) 3 m must be below --grid-z-max 2 m"}};
   for (const auto& [opt, message] : cases) {
@@ -44,6 +52,10 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
   r = run("score --input " + log + " --out " + (dir / "k").string() + " --config " + (dir / "k.yaml").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("k.yaml: line 2: a key must be a plain name"), std::string::npos) << r.output;
+  // An empty --input (issue 45: ": no such folder", naming nothing).
+  r = run("run --input '' --out " + (dir / "e").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("input: empty path"), std::string::npos) << r.output;
   // A typo that would allocate what no sensor produces (1e5 beams: 35 GB of scans before).
   r = run("demo --beams 100000 --out " + (dir / "big").string());
   EXPECT_EQ(r.code, 1);
