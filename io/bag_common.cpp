@@ -1,5 +1,6 @@
 #include "io/bag_common.hpp"
 
+#include "io/error.hpp"
 #include "io/pose_file.hpp"
 
 namespace cleanmap {
@@ -10,6 +11,19 @@ std::optional<Eigen::Isometry3d> checked_pose(const Eigen::Quaterniond& q, const
   p.linear() = q.normalized().toRotationMatrix();
   p.translation() = t;
   return p;
+}
+
+void check_coverage(const std::filesystem::path& source, const std::map<double, Eigen::Isometry3d>& track,
+                    const std::vector<double>& times, const std::string& what, const std::string& advice) {
+  const double gap = times.size() > 1 ? (times.back() - times.front()) / static_cast<double>(times.size() - 1) : 0.0;
+  const double lo = track.begin()->first - 0.5 * gap, hi = track.rbegin()->first + 0.5 * gap;
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (times[i] < lo || times[i] > hi) {
+      fail(source, "poses cover " + std::to_string(track.begin()->first) + " to " +
+                       std::to_string(track.rbegin()->first) + " s, but " + what + " " + std::to_string(i) +
+                       " is at " + std::to_string(times[i]) + " s: " + advice);
+    }
+  }
 }
 
 Eigen::Isometry3d pose_at(const std::map<double, Eigen::Isometry3d>& track, double t) {

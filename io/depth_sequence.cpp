@@ -16,21 +16,6 @@ namespace cleanmap {
 namespace fs = std::filesystem;
 namespace {
 
-// A ground-truth track covers the frames when each frame lies inside it or within half a frame
-// gap of an end (mocap starting a few ms late); beyond that a held pose would be wrong.
-void check_coverage(const fs::path& file, const std::map<double, Eigen::Isometry3d>& track,
-                    const std::vector<double>& times) {
-  const double gap = times.size() > 1 ? (times.back() - times.front()) / static_cast<double>(times.size() - 1) : 0.0;
-  const double lo = track.begin()->first - 0.5 * gap, hi = track.rbegin()->first + 0.5 * gap;
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    if (times[i] < lo || times[i] > hi) {
-      fail(file, "covers " + std::to_string(track.begin()->first) + " to " + std::to_string(track.rbegin()->first) +
-                     " s, but frame " + std::to_string(i) + " is at " + std::to_string(times[i]) +
-                     " s: trim depth.txt to the poses, or move the file away to estimate poses with odometry");
-    }
-  }
-}
-
 std::vector<Eigen::Isometry3d> frame_poses(const fs::path& file, PoseFormat format, const std::vector<double>& times) {
   const auto stamped = read_poses(file, format);
   if (stamped.empty()) fail(file, "holds no pose");
@@ -44,7 +29,8 @@ std::vector<Eigen::Isometry3d> frame_poses(const fs::path& file, PoseFormat form
   }
   std::map<double, Eigen::Isometry3d> track;
   for (const auto& p : stamped) track[p.stamp] = p.pose;
-  check_coverage(file, track, times);
+  check_coverage(file, track, times, "frame",
+                 "trim depth.txt to the poses, or move the file away to estimate poses with odometry");
   for (double t : times) out.push_back(pose_at(track, t));
   return out;
 }

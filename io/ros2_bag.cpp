@@ -215,6 +215,7 @@ Ros2BagSource::Ros2BagSource(const fs::path& folder, const BagOptions& options)
   if (impl_->clouds.empty()) fail(folder, "no messages on topic " + topic_);
   if (!pose_topic.empty()) {
     if (track.empty()) fail(folder, "no poses on topic " + pose_topic + (options.child_frame.empty() ? "" : " for frame " + options.child_frame));
+    check_coverage(folder, track, stamps_, "scan", "the pose topic " + pose_topic + " does not cover the clouds (trim the bag, or run without given poses)");
     for (double t : stamps_) poses_.push_back(pose_at(track, t));
   }
 }

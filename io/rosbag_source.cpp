@@ -92,6 +92,7 @@ BagSource::BagSource(const std::filesystem::path& file, const BagOptions& option
         ++index;
       }
       if (track.empty()) fail(file, "no poses on topic " + options.pose_topic);
+      check_coverage(file, track, stamps_, "scan", "the pose topic " + options.pose_topic + " does not cover the clouds (trim the bag, or run without given poses)");
       for (double t : stamps_) poses_.push_back(pose_at(track, t));
     }
   } catch (const Error&) {

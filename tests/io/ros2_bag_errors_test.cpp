@@ -122,6 +122,24 @@ TEST(Ros2BagErrors, ASchemaThatDefinesCodeIsNeverRun) {
   test::expect_error([&] { open_sequence(dir / "view"); }, {"log_0.db3", "'messages' is a view", "never run"});
 }
 
+// A pose topic that ends before the clouds (issue 45: every later scan silently got the last
+// pose) is an error naming the first scan it does not cover.
+TEST(Ros2BagErrors, APoseTopicThatEndsBeforeTheCloudsIsRefused) {
+  test::TempDir dir;
+  test::write_ros2_bag(dir / "short", "sqlite3", McapCompression::kNone, 6);
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open((dir / "short" / "log_0.db3").c_str(), &db), SQLITE_OK);
+  // Poses at 0.05 s steps from t0: keep those up to 0.25 s (the scans run to 0.5 s; 0.3 s is
+  // within half a scan gap of the last pose).
+  ASSERT_EQ(sqlite3_exec(db, "DELETE FROM messages WHERE topic_id = (SELECT id FROM topics WHERE name = '/odom') "
+                             "AND timestamp > 1700000000270000000;", nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  SequenceOptions o;
+  o.bag_pose_topic = "/odom";
+  test::expect_error([&] { open_sequence(dir / "short", o); }, {"short", "but scan 4 is at", "does not cover the clouds"});
+}
+
 TEST(Ros2BagErrors, EachBrokenBagIsOneClearError) {
   test::TempDir dir;
   test::write_ros2_bag(dir / "z", "mcap", McapCompression::kZstd, 3);
