@@ -109,6 +109,11 @@ void run_demo(const CLI::App& cmd, const DemoArgs& args) {
   if (cfg.scans < 1 || cfg.lidar.beams < 1 || cfg.lidar.columns < 1 || !(cfg.lidar.rate_hz > 0)) {
     throw Error("demo: scans, beams, columns and rate_hz must be positive");
   }
+  // (issue 45: an inverted field of view was accepted and simulated upside down)
+  if (!(cfg.lidar.fov_up_deg > cfg.lidar.fov_down_deg)) {
+    throw Error("demo: --fov-up-deg (" + std::to_string(cfg.lidar.fov_up_deg) + ") must be above --fov-down-deg (" +
+                std::to_string(cfg.lidar.fov_down_deg) + ")");
+  }
 
   const fs::path seq = args.out / "sequence";
   make_dirs(seq / "scans");

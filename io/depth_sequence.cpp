@@ -90,6 +90,14 @@ Sequence open_tum_rgbd(const fs::path& folder, const SequenceOptions& options) {
   const Image16 first = read_png16(seq.scans.front());
   seq.image_width = first.width;
   seq.image_height = first.height;
+  // A camera's principal point lies in its image, near the centre (issue 45: one thousands of
+  // image widths away was accepted and every point landed far off to one side).
+  const auto off_image = [](double c, int side) { return !(c >= -0.5 * side && c <= 1.5 * side); };
+  if (off_image(intrinsics->cx, first.width) || off_image(intrinsics->cy, first.height)) {
+    fail(camera, "principal point (cx " + std::to_string(intrinsics->cx) + ", cy " + std::to_string(intrinsics->cy) +
+                     ") lies far outside the " + std::to_string(first.width) + " x " + std::to_string(first.height) +
+                     " images of " + seq.scans.front().filename().string() + ": check the intrinsics' units (pixels)");
+  }
   const auto files = std::make_shared<const std::vector<fs::path>>(seq.scans);
   seq.read_scan = [files, intrinsics, w = first.width, h = first.height](std::size_t index, TimeUnit) {
     const fs::path& file = files->at(index);

@@ -56,6 +56,10 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
   r = run("run --input '' --out " + (dir / "e").string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("input: empty path"), std::string::npos) << r.output;
+  // An inverted field of view (issue 45: simulated upside down).
+  r = run("demo --fov-up-deg -10 --fov-down-deg 10 --out " + (dir / "fov").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("--fov-up-deg (-10.000000) must be above --fov-down-deg"), std::string::npos) << r.output;
   // A typo that would allocate what no sensor produces (1e5 beams: 35 GB of scans before).
   r = run("demo --beams 100000 --out " + (dir / "big").string());
   EXPECT_EQ(r.code, 1);

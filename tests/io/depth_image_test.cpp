@@ -148,6 +148,12 @@ TEST(DepthSequence, BadListsAndUncoveredPosesAreClearErrors) {
   fs::remove(dir / "b" / "camera.yaml");
   fs::remove(dir / "b" / "groundtruth.txt");
   test::expect_error([&] { open_sequence(dir / "b"); }, {"camera.yaml", "no such camera file"});
+  // A principal point thousands of image widths away (issue 45: accepted).
+  write_table_sequence(dir / "c", make_table_scene(), 2, 30.0, 3);
+  auto k = read_depth_intrinsics(dir / "c" / "camera.yaml");
+  k.cx = 3000 * 320.0;
+  write_depth_intrinsics(dir / "c" / "camera.yaml", k);
+  test::expect_error([&] { open_sequence(dir / "c"); }, {"camera.yaml", "principal point", "far outside the 320 x 240"});
 }
 
 }  // namespace
