@@ -6,20 +6,13 @@
 
 #include "io/error.hpp"
 #include "io/mcap_records.hpp"
+#include "io/zstd_frame.hpp"
 
 namespace cleanmap {
 namespace fs = std::filesystem;
 using namespace mcap;
 
 namespace {
-
-std::vector<std::uint8_t> unzstd(const std::uint8_t* src, std::size_t n, std::uint64_t want, const std::string& what) {
-  std::vector<std::uint8_t> out(want);
-  const std::size_t got = ZSTD_decompress(out.data(), out.size(), src, n);
-  if (ZSTD_isError(got)) throw Error(what + ": zstd: " + ZSTD_getErrorName(got) + " (truncated or corrupt)");
-  if (got != want) throw Error(what + ": zstd gave " + std::to_string(got) + " bytes, the chunk says " + std::to_string(want));
-  return out;
-}
 
 std::vector<std::uint8_t> unlz4(const std::uint8_t* src, std::size_t n, std::uint64_t want, const std::string& what) {
   std::vector<std::uint8_t> out(want);
@@ -116,16 +109,17 @@ std::vector<std::uint8_t> McapReader::chunk_records(std::uint64_t chunk) const {
   const std::string compression = f.string();
   const auto compressed = f.num<std::uint64_t>();
   const std::uint8_t* data = f.take(compressed);
-  if (compression != "" && uncompressed > std::max<std::uint64_t>(65536, compressed * kMaxChunkExpansion)) {
+  if (compression != "" && (uncompressed > kMaxDecompressedBytes ||
+                            uncompressed > std::max<std::uint64_t>(65536, compressed * kMaxChunkExpansion))) {
     throw Error(what + ": claims " + std::to_string(uncompressed) + " bytes from " + std::to_string(compressed) +
-                " compressed (more than " + std::to_string(kMaxChunkExpansion) + "x: corrupt)");
+                " compressed (more than " + std::to_string(kMaxChunkExpansion) + "x or the 256 MiB limit of one chunk: corrupt)");
   }
   std::vector<std::uint8_t> out;
   if (compression.empty()) {
     if (compressed != uncompressed) throw Error(what + ": uncompressed, but its sizes differ (corrupt)");
     out.assign(data, data + compressed);
   } else if (compression == "zstd") {
-    out = unzstd(data, compressed, uncompressed, what);
+    out = unzstd_frame(data, compressed, uncompressed, kMaxChunkExpansion, what);
   } else if (compression == "lz4") {
     out = unlz4(data, compressed, uncompressed, what);
   } else {

@@ -13,6 +13,7 @@
 #include "io/ros2_messages.hpp"
 #include "io/sqlite_bag.hpp"
 #include "io/yaml_file.hpp"
+#include "io/zstd_frame.hpp"
 
 namespace cleanmap {
 namespace fs = std::filesystem;
@@ -29,15 +30,7 @@ YAML::Node child(const YAML::Node& n, const char* key, const fs::path& file) {
 // The bytes of a message as stored, undoing rosbag2's per-message zstd compression.
 std::vector<std::uint8_t> unpacked(std::vector<std::uint8_t> bytes, bool zstd, const std::string& what) {
   if (!zstd) return bytes;
-  const auto size = ZSTD_getFrameContentSize(bytes.data(), bytes.size());
-  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN ||
-      size > std::max<std::uint64_t>(65536, bytes.size() * kMaxChunkExpansion)) {
-    throw Error(what + ": not a zstd frame of believable size (truncated or corrupt)");
-  }
-  std::vector<std::uint8_t> out(size);
-  const auto got = ZSTD_decompress(out.data(), out.size(), bytes.data(), bytes.size());
-  if (ZSTD_isError(got) || got != size) throw Error(what + ": zstd: truncated or corrupt message");
-  return out;
+  return unzstd_frame(bytes.data(), bytes.size(), 0, kMaxChunkExpansion, what);
 }
 
 // The poses one message of a pose topic carries (a TFMessage: several).
