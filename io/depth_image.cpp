@@ -80,6 +80,11 @@ bool read_rows(std::FILE* f, Image16& out, std::string& why) {
   }
   out.width = static_cast<int>(png_get_image_width(png, info));
   out.height = static_cast<int>(png_get_image_height(png, info));
+  if (static_cast<std::uint64_t>(out.width) * static_cast<std::uint64_t>(out.height) > kMaxImagePixels) {
+    why = std::to_string(out.width) + " x " + std::to_string(out.height) + " pixels: more than the " +
+          std::to_string(kMaxImagePixels) + " (4096 x 2048) a depth image may have";
+    return false;
+  }
   out.pixels.resize(static_cast<std::size_t>(out.width) * out.height);
   std::vector<png_bytep> rows(static_cast<std::size_t>(out.height));
   for (int y = 0; y < out.height; ++y) rows[y] = reinterpret_cast<png_bytep>(out.pixels.data() + y * out.width);

@@ -20,6 +20,11 @@ struct Image16 {
 // TUM RGB-D layout write); anything else, a cut file, or more than kMaxImageSide pixels a side
 // is an Error naming the file (a header's size is checked before its pixels are allocated).
 inline constexpr int kMaxImageSide = 16384;
+// A stated limit on a depth image's pixels, checked from its header before any is allocated:
+// 8.4 Mpx (4096 x 2048; 17 MB of samples, 100 MB of points). The largest depth sensors give
+// 2.7 Mpx (ZED 2i, 2208 x 1242); a 16384 x 16384 PNG of zeros is 0.5 MB on disk and asked for
+// 0.5 GB of samples and 3.2 GB of points (issue 45).
+inline constexpr std::uint64_t kMaxImagePixels = 4096ull * 2048ull;
 Image16 read_png16(const std::filesystem::path& file);
 void write_png16(const std::filesystem::path& file, const Image16& image);
 

@@ -60,6 +60,9 @@ TEST(DepthImage, BadPngsAreClearErrorsBeforeAnyAllocation) {
   test::expect_error([&] { read_png16(dir / "rgb.png"); }, {"rgb.png", "not a 16-bit greyscale image"});
   std::ofstream(dir / "huge.png", std::ios::binary) << png_header(100000, 100000, 16, 0);  // 20 GB of pixels
   test::expect_error([&] { read_png16(dir / "huge.png"); }, {"huge.png", "unreadable PNG"});
+  // Within libpng's side limit, but 0.5 GB of samples (issue 45: allocated from a 0.5 MB file).
+  std::ofstream(dir / "wide.png", std::ios::binary) << png_header(16384, 16384, 16, 0, true);
+  test::expect_error([&] { read_png16(dir / "wide.png"); }, {"wide.png", "16384 x 16384 pixels: more than the 8388608"});
   std::ofstream(dir / "cut.png", std::ios::binary) << png_header(64, 64, 16, 0);  // no pixel data
   test::expect_error([&] { read_png16(dir / "cut.png"); }, {"cut.png", "unreadable PNG"});
   std::ofstream(dir / "text.png") << "not a png";
