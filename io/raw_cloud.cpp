@@ -125,6 +125,31 @@ bool store_value(double value, std::uint8_t datatype, std::uint8_t* out) {
   }
 }
 
+const std::uint8_t* packed_rows(const std::uint8_t* data, std::size_t bytes, std::uint32_t width,
+                                std::uint32_t height, std::uint32_t point_step, std::uint32_t row_step,
+                                std::vector<std::uint8_t>& storage, const std::string& source,
+                                std::size_t& packed_bytes) {
+  const std::uint64_t row = std::uint64_t{width} * point_step;
+  packed_bytes = bytes;
+  if (height <= 1 || row_step == row) return data;
+  if (row_step < row) {
+    fail(source, "row_step " + std::to_string(row_step) + " is shorter than a row's " + std::to_string(width) +
+                     " points of " + std::to_string(point_step) + " bytes");
+  }
+  // Both factors come from the message: the last row needs only its points.
+  if (std::uint64_t{row_step} * (height - 1) + row > bytes) {
+    fail(source, "data holds " + std::to_string(bytes) + " bytes, fewer than " + std::to_string(height) +
+                     " rows of row_step " + std::to_string(row_step) + " need");
+  }
+  storage.resize(static_cast<std::size_t>(row) * height);
+  for (std::uint32_t r = 0; r < height; ++r) {
+    std::memcpy(storage.data() + static_cast<std::size_t>(row) * r, data + static_cast<std::size_t>(row_step) * r,
+                static_cast<std::size_t>(row));
+  }
+  packed_bytes = storage.size();
+  return storage.data();
+}
+
 Scan scan_from_raw_cloud(const RawCloud& cloud, const std::filesystem::path& source,
                          TimeUnit time_unit, const Eigen::Vector3d& shift) {
   for (const auto& f : cloud.fields) {

@@ -28,6 +28,16 @@ struct RawCloud {
   std::uint32_t point_step = 0;
 };
 
+// An organised cloud's rows packed one after another. ROS's PointCloud2 may pad each row
+// (row_step > width * point_step is legal; issue 45: such a cloud was read as if unpadded, every
+// row after the first shifted). Copies into `storage` only when the rows are padded; throws
+// Error naming `source` when row_step is shorter than a row's points or the data cannot hold
+// its rows.
+const std::uint8_t* packed_rows(const std::uint8_t* data, std::size_t bytes, std::uint32_t width,
+                                std::uint32_t height, std::uint32_t point_step, std::uint32_t row_step,
+                                std::vector<std::uint8_t>& storage, const std::string& source,
+                                std::size_t& packed_bytes);
+
 // Records read from a file (PCD, PLY), owning their bytes.
 struct CloudRecords {
   std::vector<RawField> fields;

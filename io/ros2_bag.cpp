@@ -220,7 +220,7 @@ Scan Ros2BagSource::read(std::size_t index, TimeUnit time_unit) const {
   const auto bytes = impl_->fetch(impl_->clouds.at(index), source);
   const PointCloud2Msg msg = decode_point_cloud2(bytes.data(), bytes.size(), source);
   std::vector<std::uint8_t> swapped;
-  Scan scan = scan_from_raw_cloud(raw_cloud_of(msg, swapped), source, time_unit);
+  Scan scan = scan_from_raw_cloud(raw_cloud_of(msg, swapped, source), source, time_unit);
   scan.name = scan_name(index);
   // Per-point times relative to the message stamp unless they were absolute (the sequence
   // handles those like any epoch-stamped scan).

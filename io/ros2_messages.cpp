@@ -149,18 +149,17 @@ std::vector<std::uint8_t> encode_tf_message(const std::vector<StampedTransform>&
   return w.data();
 }
 
-RawCloud raw_cloud_of(const PointCloud2Msg& m, std::vector<std::uint8_t>& storage) {
+RawCloud raw_cloud_of(const PointCloud2Msg& m, std::vector<std::uint8_t>& storage, const std::string& source) {
   RawCloud raw;
   raw.fields = m.fields;
   raw.points = static_cast<std::size_t>(m.width) * m.height;
   raw.point_step = m.point_step;
-  raw.data = m.data;
-  raw.bytes = m.data_size;
+  raw.data = packed_rows(m.data, m.data_size, m.width, m.height, m.point_step, m.row_step, storage, source, raw.bytes);
   if (!m.is_bigendian) return raw;
   // Each field's value reversed in a copy; a field that would not fit is left for
   // scan_from_raw_cloud's layout check to name.
-  storage.assign(m.data, m.data + m.data_size);
-  const std::size_t n = std::min(raw.points, m.point_step ? m.data_size / m.point_step : 0);
+  if (raw.data != storage.data()) storage.assign(raw.data, raw.data + raw.bytes);
+  const std::size_t n = std::min(raw.points, m.point_step ? raw.bytes / m.point_step : 0);
   for (const auto& f : m.fields) {
     const std::uint32_t s = type_size(f.datatype);
     if (s <= 1 || std::uint64_t{f.offset} + s > m.point_step) continue;  // (64-bit: an offset near 2^32 wrapped)

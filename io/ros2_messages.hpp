@@ -46,8 +46,10 @@ std::vector<std::uint8_t> encode_odometry(const StampedTransform& pose, bool big
 std::vector<std::uint8_t> encode_transform_stamped(const StampedTransform& t, bool big_endian_cdr = false);
 std::vector<std::uint8_t> encode_tf_message(const std::vector<StampedTransform>& t, bool big_endian_cdr = false);
 
-// The cloud as scan_from_raw_cloud takes it (point records swapped to little-endian into
-// `storage` when the message says big-endian).
-RawCloud raw_cloud_of(const PointCloud2Msg& msg, std::vector<std::uint8_t>& storage);
+// The cloud as scan_from_raw_cloud takes it: padded rows packed and point records swapped to
+// little-endian when the message says big-endian, both into `storage` when needed. `source`
+// names the message in errors.
+RawCloud raw_cloud_of(const PointCloud2Msg& msg, std::vector<std::uint8_t>& storage,
+                      const std::string& source = "PointCloud2");
 
 }  // namespace cleanmap

@@ -114,13 +114,15 @@ Scan BagSource::read(std::size_t index, TimeUnit time_unit) const {
   if (!msg) fail(file_, "message " + std::to_string(index) + " on " + topic_ + " is not a PointCloud2");
   if (msg->is_bigendian) fail(file_, "big-endian point clouds are not supported");
   const std::size_t n = static_cast<std::size_t>(msg->width) * msg->height;
+  const auto source = file_.string() + ":" + topic_ + "#" + std::to_string(index);
   RawCloud raw;
-  raw.data = msg->data.data();
-  raw.bytes = msg->data.size();  // scan_from_raw_cloud checks the layout against it
+  std::vector<std::uint8_t> packed;
+  // scan_from_raw_cloud checks the layout against raw.bytes
+  raw.data = packed_rows(msg->data.data(), msg->data.size(), msg->width, msg->height, msg->point_step, msg->row_step,
+                         packed, source, raw.bytes);
   raw.points = n;
   raw.point_step = msg->point_step;
   for (const auto& f : msg->fields) raw.fields.push_back({f.name, f.offset, f.datatype});
-  const auto source = file_.string() + ":" + topic_ + "#" + std::to_string(index);
   Scan scan = scan_from_raw_cloud(raw, source, time_unit);
   scan.name = scan_name(index);
   // Per-point times relative to the message stamp unless they were absolute (handled by the

@@ -1,6 +1,7 @@
 // ROS 2 bags (sqlite3 and mcap storage, CDR messages) written here with the same code the
 // reader shares (io/cdr, io/mcap_records, io/sqlite_bag), read back as sequences; one
 // hand-checked fixture per storage; every way a bag can be broken gives one clear error.
+#include <algorithm>
 #include <cstring>
 
 #include "io/sequence.hpp"
@@ -32,6 +33,47 @@ TEST(Ros2Cdr, APointCloud2MatchesItsHandCheckedBytesAndReadsBack) {
   // Cut anywhere, it is an error naming the message, never a read past its end.
   for (std::size_t n : {std::size_t{3}, std::size_t{10}, std::size_t{40}, kFixture.size() - 1}) {
     test::expect_error([&] { decode_point_cloud2(kFixture.data(), n, "cut"); }, {"cut", "PointCloud2"});
+  }
+}
+
+// An organised cloud whose rows are padded (row_step > width * point_step, legal in ROS; issue
+// 45: every row after the first was read shifted by the padding), big-endian or not.
+TEST(Ros2Cdr, PaddedRowsAreReadRowByRow) {
+  for (const bool big : {false, true}) {
+    // 2 rows of 3 points (x y z float32), each row padded by 4 bytes.
+    std::vector<std::uint8_t> data(2 * (3 * 12 + 4), 0xEE);
+    for (int r = 0; r < 2; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        for (int k = 0; k < 3; ++k) {
+          const float v = static_cast<float>(100 * r + 10 * c + k);
+          std::uint8_t b[4];
+          std::memcpy(b, &v, 4);
+          if (big) std::reverse(b, b + 4);
+          std::memcpy(data.data() + r * 40 + c * 12 + k * 4, b, 4);
+        }
+      }
+    }
+    PointCloud2Msg m;
+    m.width = 3;
+    m.height = 2;
+    m.fields = {{"x", 0, 7}, {"y", 4, 7}, {"z", 8, 7}};
+    m.is_bigendian = big;
+    m.point_step = 12;
+    m.row_step = 40;
+    m.data = data.data();
+    m.data_size = data.size();
+    std::vector<std::uint8_t> storage;
+    const Scan s = scan_from_raw_cloud(raw_cloud_of(m, storage, "padded"), "padded", TimeUnit::kAuto);
+    ASSERT_EQ(s.size(), 6u);
+    for (int r = 0; r < 2; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(s.points(k, 3 * r + c), static_cast<float>(100 * r + 10 * c + k)) << big;
+      }
+    }
+    m.row_step = 30;  // shorter than a row's points
+    test::expect_error([&] { raw_cloud_of(m, storage, "short"); }, {"short", "row_step 30 is shorter than a row's 3 points"});
+    m.row_step = 400;  // rows the data cannot hold
+    test::expect_error([&] { raw_cloud_of(m, storage, "long"); }, {"long", "fewer than 2 rows of row_step 400"});
   }
 }
 
