@@ -260,7 +260,7 @@ BoxTruth box_truth(const Sequence& sequence, const std::filesystem::path& boxes_
     for (std::size_t i = 0; i < sequence.size(); ++i) {
       if (sightings[i].empty()) continue;
       Scan scan = read_raw_scan(sequence, i);
-      drop_non_finite(scan);
+      drop_invalid(scan);
       const Eigen::Matrix3Xf world =
           options.time_from_azimuth && !scan.has_time()
               ? place_by_azimuth(scan.points, sequence.poses, sequence.times, i, options.pose_reference)

@@ -30,18 +30,23 @@ Scan select_points(const Scan& scan, const std::vector<std::int32_t>& indices) {
   return out;
 }
 
-std::size_t drop_non_finite(Scan& scan) {
+DroppedPoints drop_invalid(Scan& scan) {
   std::vector<std::int32_t> keep;
   keep.reserve(scan.size());
   const bool timed = scan.has_time();
+  DroppedPoints d;
   for (Eigen::Index i = 0; i < scan.points.cols(); ++i) {
-    if (scan.points.col(i).allFinite() && (!timed || std::isfinite(scan.time[i]))) {
+    if (!scan.points.col(i).allFinite() || (timed && !std::isfinite(scan.time[i]))) {
+      ++d.non_finite;
+    } else if (!(scan.points.col(i).cwiseAbs().maxCoeff() <= kMaxCoordinate) ||
+               (timed && !(std::abs(scan.time[i]) <= kMaxPointTime))) {
+      ++d.out_of_range;
+    } else {
       keep.push_back(static_cast<std::int32_t>(i));
     }
   }
-  const std::size_t dropped = scan.size() - keep.size();
-  if (dropped > 0) scan = select_points(scan, keep);
-  return dropped;
+  if (keep.size() < scan.size()) scan = select_points(scan, keep);
+  return d;
 }
 
 }  // namespace cleanmap

@@ -36,8 +36,18 @@ std::string scan_name(std::size_t index);
 // Keeps the listed points (in the given order) in every per-point field, composing input_index.
 Scan select_points(const Scan& scan, const std::vector<std::int32_t>& indices);
 
-// Drops points with a NaN or infinite coordinate (or time); returns how many were dropped.
-std::size_t drop_non_finite(Scan& scan);
+// What no sensor returns: a coordinate beyond 1e6 m from the scan's frame (sensor frame, or the
+// map's local frame for world-frame input), or a point fired more than 10 s from its scan's
+// stamp (sweeps last well under a second). Issue 45: a return 1e12 m away and a per-point time
+// of 1e20 (epoch nanoseconds in a float field) were taken as they came and crashed the run
+// (integer cell keys and time spans overflowed).
+inline constexpr double kMaxCoordinate = 1e6, kMaxPointTime = 10.0;
+struct DroppedPoints {
+  std::size_t non_finite = 0;    // a NaN or infinite coordinate (or time)
+  std::size_t out_of_range = 0;  // beyond kMaxCoordinate or kMaxPointTime
+};
+// Drops both kinds; returns how many of each.
+DroppedPoints drop_invalid(Scan& scan);
 
 // Scatters a per-point value back to input order; points dropped on reading get `fill`.
 template <typename T>

@@ -233,8 +233,10 @@ LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   if (seq.world_frame && !scan.pose) {  // VIEWPOINT at the frame's origin
     scan.pose = Eigen::Isometry3d(Eigen::Translation3d(-seq.origin));
   }
-  out.dropped_non_finite = drop_non_finite(scan);
-  if (out.dropped_non_finite > 0 && !out.labels.empty()) {
+  const DroppedPoints dropped = drop_invalid(scan);
+  out.dropped_non_finite = dropped.non_finite;
+  out.dropped_out_of_range = dropped.out_of_range;
+  if (dropped.non_finite + dropped.out_of_range > 0 && !out.labels.empty()) {
     std::vector<std::uint32_t> kept(scan.size());
     for (std::size_t i = 0; i < scan.size(); ++i) kept[i] = out.labels[scan.input_index[i]];
     out.labels = std::move(kept);

@@ -82,6 +82,7 @@ struct LoadedScan {
   Scan scan;                          // NaN/inf points dropped, stamp and pose set
   std::vector<std::uint32_t> labels;  // per kept point when the sequence has labels
   std::size_t dropped_non_finite = 0;
+  std::size_t dropped_out_of_range = 0;  // beyond kMaxCoordinate / kMaxPointTime (io/scan.hpp)
 };
 
 LoadedScan load_scan(const Sequence& sequence, std::size_t index);

@@ -62,7 +62,9 @@ std::vector<MapperResult> OnlineMapper::push(Scan scan) {
   LoadedScan loaded;
   scan.name = scan_name(pushed_);
   scan.input_size = scan.size();
-  loaded.dropped_non_finite = drop_non_finite(scan);
+  const DroppedPoints dropped = drop_invalid(scan);
+  loaded.dropped_non_finite = dropped.non_finite;
+  loaded.dropped_out_of_range = dropped.out_of_range;
   loaded.scan = std::move(scan);
   if (given) {
     // As `run` does with given poses: a local origin near the first one (io/sequence.hpp).

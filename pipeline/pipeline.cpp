@@ -231,6 +231,7 @@ std::shared_ptr<PipelineItem> PipelineRun::pose_scan(LoadedScan loaded, std::siz
   item->last = last;
   auto t = Clock::now();
   dropped += loaded.dropped_non_finite;
+  out_of_range += loaded.dropped_out_of_range;
   if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
   masked += drop_masked(loaded, mask);
   item->labels = std::move(loaded.labels);

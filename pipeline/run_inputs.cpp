@@ -43,7 +43,8 @@ std::size_t drop_masked(LoadedScan& loaded, const PlatformMask& mask) {
 void note_empty(const LoadedScan& loaded, nlohmann::json& empty_scans) {
   const std::size_t n = loaded.scan.input_size;
   const std::string reason =
-      n == 0 ? "no points" : "all " + std::to_string(n) + " points have NaN or infinite coordinates";
+      n == 0 ? "no points"
+             : "all " + std::to_string(n) + " points have NaN or infinite coordinates or lie beyond 1e6 m / 10 s";
   std::fprintf(stderr, "cleanmap: warning: scan %s: %s (scored as empty)\n", loaded.scan.name.c_str(), reason.c_str());
   empty_scans.push_back({{"scan", loaded.scan.name}, {"reason", reason}});
 }

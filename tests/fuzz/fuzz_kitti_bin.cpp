@@ -7,7 +7,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto file = cleanmap::fuzz::as_file(data, size, ".bin");
   cleanmap::fuzz::expect_clean([&] {
     cleanmap::Scan s = cleanmap::read_kitti_bin(file);
-    cleanmap::drop_non_finite(s);
+    cleanmap::drop_invalid(s);
   });
   return 0;
 }

@@ -108,19 +108,22 @@ TEST(CloudFile, EpochTimesBecomeStampPlusOffsets) {
   EXPECT_NEAR(r.time[1], 0.05, 1e-6);
 }
 
-TEST(CloudFile, NanPointsAreDroppedWithACount) {
+TEST(CloudFile, NanAndAbsurdPointsAreDroppedWithACount) {
   test::TempDir dir;
+  // A return 1e12 m away and one fired 1e20 s from its scan (issue 45: both crashed the run).
   write_text(dir / "n.pcd",
-             "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-             "WIDTH 4\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
-             "1 2 3\nnan nan nan\n4 5 6\ninf 0 0\n");
-  Scan r = read_cloud(dir / "n.pcd");
-  EXPECT_EQ(drop_non_finite(r), 2u);
+             "VERSION 0.7\nFIELDS x y z t\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+             "WIDTH 6\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 6\nDATA ascii\n"
+             "1 2 3 0\nnan nan nan 0\n4 5 6 0.05\ninf 0 0 0\n1e12 0 0 0.01\n7 8 9 1e20\n");
+  Scan r = read_cloud(dir / "n.pcd", {TimeUnit::kSeconds});
+  const DroppedPoints d = drop_invalid(r);
+  EXPECT_EQ(d.non_finite, 2u);
+  EXPECT_EQ(d.out_of_range, 2u);
   ASSERT_EQ(r.size(), 2u);
   EXPECT_FLOAT_EQ(r.points(0, 1), 4.0f);
   // Per-point outputs still come back in input order, with a fill for the dropped points.
   const auto scattered = to_input_order(r, std::vector<int>{7, 8}, -1);
-  EXPECT_EQ(scattered, (std::vector<int>{7, -1, 8, -1}));
+  EXPECT_EQ(scattered, (std::vector<int>{7, -1, 8, -1, -1, -1}));
 }
 
 TEST(CloudFile, MissingXyzIsAnError) {
