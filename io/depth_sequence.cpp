@@ -11,6 +11,7 @@
 #include "io/depth_image.hpp"
 #include "io/error.hpp"
 #include "io/pose_file.hpp"
+#include "io/sequence.hpp"
 
 namespace cleanmap {
 namespace fs = std::filesystem;
@@ -80,6 +81,7 @@ Sequence open_tum_rgbd(const fs::path& folder, const SequenceOptions& options) {
     seq.labels.push_back(fs::exists(label) ? label : fs::path());
   }
   seq.times_source = (folder / "depth.txt").string();
+  check_unique_names(seq);
   const fs::path poses = !options.poses_file.empty() ? options.poses_file : folder / "groundtruth.txt";
   if (fs::exists(poses) || !options.poses_file.empty()) {
     seq.poses = frame_poses(poses, options.pose_format, seq.times);

@@ -1,6 +1,7 @@
 #include "io/sequence.hpp"
 
 #include <algorithm>
+#include <map>
 
 #include "io/error.hpp"
 #include "io/kitti_bin.hpp"
@@ -182,7 +183,20 @@ Sequence open_sequence(const fs::path& folder, const SequenceOptions& options) {
 
   const auto stamped = attach_poses(seq, folder, options);
   attach_times(seq, folder, options, stamped);
+  check_unique_names(seq);
   return seq;
+}
+
+void check_unique_names(const Sequence& seq) {
+  std::map<std::string, std::size_t> first;
+  for (std::size_t i = 0; i < seq.scans.size(); ++i) {
+    const auto [it, fresh] = first.try_emplace(seq.scans[i].stem().string(), i);
+    if (!fresh) {
+      fail(seq.root, "scans " + seq.scans[it->second].lexically_relative(seq.root).string() + " and " +
+                         seq.scans[i].lexically_relative(seq.root).string() + " share the name '" + it->first +
+                         "': their outputs (labels/" + it->first + ".label, ...) would overwrite each other; rename one");
+    }
+  }
 }
 
 Scan read_scan_file(const fs::path& file, const CloudReadOptions& options) {

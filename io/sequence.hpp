@@ -66,6 +66,11 @@ struct Sequence {
 
 Sequence open_sequence(const std::filesystem::path& folder, const SequenceOptions& options = {});
 
+// Each scan's outputs are named after its file (labels/NAME.label, scores/NAME.bin): two scan
+// files with one name (a.pcd and a.ply, or depth/1/x.png and depth/2/x.png) would overwrite each
+// other's (issue 45). Throws Error naming both and the folder.
+void check_unique_names(const Sequence& sequence);
+
 // Georeferenced poses (UTM: hundreds to thousands of km) leave float points a grid of up to
 // 0.5 m and OctoMap's 16-bit keys no room (they reach 9.8 km from the map's origin at 0.3 m):
 // a run works relative to a local origin near its log. This one is the log's first position

@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "io/cloud_file.hpp"
 #include "io/kitti_bin.hpp"
 #include "io/label_file.hpp"
 #include "tests/test_support.hpp"
@@ -20,6 +21,15 @@ TEST(Sequence, MissingAndEmptyFoldersAreErrors) {
   test::TempDir dir;
   test::expect_error([&] { open_sequence(dir / "absent"); }, {"absent", "no such folder"});
   test::expect_error([&] { open_sequence(dir.path); }, {dir.path.string(), "no scan files"});
+}
+
+// Two scan files of one name would write one set of outputs (issue 45: two depth frames named
+// alike in two folders overwrote each other's labels).
+TEST(Sequence, ScansSharingANameAreRefused) {
+  test::TempDir dir;
+  write_kitti_bin(dir / "a.bin", cube(4, 0));
+  write_cloud(dir / "a.pcd", cube(4, 1));
+  test::expect_error([&] { open_sequence(dir.path); }, {"scans a.bin and a.pcd share the name 'a'", "rename one"});
 }
 
 TEST(Sequence, PlainFolderSortedByNameSpacedByRate) {
