@@ -244,8 +244,9 @@ LoadedScan load_scan(const Sequence& seq, std::size_t index) {
   }
   scan.stamp = seq.times[index];
   if (seq.has_poses()) scan.pose = seq.poses[index];
-  if (seq.world_frame && !scan.pose) {  // VIEWPOINT at the frame's origin
+  if (seq.world_frame && !scan.pose) {  // VIEWPOINT at the frame's origin (or none given)
     scan.pose = Eigen::Isometry3d(Eigen::Translation3d(-seq.origin));
+    out.viewpoint_missing = true;
   }
   const DroppedPoints dropped = drop_invalid(scan);
   out.dropped_non_finite = dropped.non_finite;

@@ -88,6 +88,9 @@ struct LoadedScan {
   std::vector<std::uint32_t> labels;  // per kept point when the sequence has labels
   std::size_t dropped_non_finite = 0;
   std::size_t dropped_out_of_range = 0;  // beyond kMaxCoordinate / kMaxPointTime (io/scan.hpp)
+  // A world-frame scan without a VIEWPOINT (or the identity, PCD's default): placed at the
+  // frame's origin.
+  bool viewpoint_missing = false;
 };
 
 LoadedScan load_scan(const Sequence& sequence, std::size_t index);

@@ -186,6 +186,9 @@ PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& c
     fail(opt.input, "no poses: give --poses FILE or put poses.txt in the folder "
                     "(`cleanmap odometry` estimates them, `cleanmap run` does it itself)");
   }
+  if (seq.world_frame && seq.has_poses()) {
+    std::fprintf(stderr, "%s: the poses of %s replace the scans' VIEWPOINTs\n", opt.command.c_str(), seq.poses_source.c_str());
+  }
   if (opt.mapping) octo = std::make_unique<OctoMapBuilder>(cfg.mapping.map);
   if (offline) visibility = std::make_unique<VisibilityMap>(visibility_config(cfg));
   if (!offline && opt.mapping)
@@ -199,7 +202,11 @@ void PipelineRun::describe(nlohmann::json& summary) const {
   if (!mos_dir.empty()) summary["mos_predictions"] = mos_dir.string();
   summary["mode"] = offline ? "offline" : "online";
   summary["times"] = seq.times_source;
-  summary["poses"] = use_odometry ? "odometry" : seq.world_frame ? "VIEWPOINT (world-frame scans)" : seq.poses_source;
+  // (issue 45: a poses.txt beside pcd/ replaced the VIEWPOINTs while this still said VIEWPOINT)
+  summary["poses"] = use_odometry                         ? "odometry"
+                     : seq.world_frame && seq.has_poses() ? seq.poses_source + " (instead of the files' VIEWPOINT)"
+                     : seq.world_frame                    ? "VIEWPOINT (world-frame scans)"
+                                                          : seq.poses_source;
   // world = map + map_origin: the map files' coordinates are relative to it.
   summary["map_origin"] = {seq.origin.x(), seq.origin.y(), seq.origin.z()};
   summary["input_settings"] = to_json(cfg.input, input_fields());
@@ -232,6 +239,11 @@ std::shared_ptr<PipelineItem> PipelineRun::pose_scan(LoadedScan loaded, std::siz
   auto t = Clock::now();
   dropped += loaded.dropped_non_finite;
   out_of_range += loaded.dropped_out_of_range;
+  if (loaded.viewpoint_missing && viewpoints_missing++ == 0) {
+    std::fprintf(stderr, "%s: warning: scan %s has no VIEWPOINT (or the identity): it is placed at the frame's origin "
+                 "and its rays cast from there (summary.json: viewpoint_missing_scans)\n", opt.command.c_str(),
+                 loaded.scan.name.c_str());
+  }
   if (loaded.scan.size() == 0) note_empty(loaded, empty_scans);
   masked += drop_masked(loaded, mask);
   item->labels = std::move(loaded.labels);

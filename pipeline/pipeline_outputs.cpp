@@ -211,6 +211,7 @@ void PipelineRun::summarise(nlohmann::json& summary, double seconds) {
   summary["tracked_points"] = tracked;
   summary["non_finite_dropped"] = dropped;
   summary["out_of_range_dropped"] = out_of_range;  // beyond 1e6 m or 10 s (io/scan.hpp)
+  if (seq.world_frame) summary["viewpoint_missing_scans"] = viewpoints_missing;
   summary["empty_scans"] = empty_scans;
   summary["platform_mask"] = {{"masked_points", masked}, {"learnt_cells", mask.cells.size()},
                               {"crop_box", !mask.crop_box.empty()}, {"note", mask.note}};

@@ -112,7 +112,8 @@ struct PipelineRun {
   MovingConfusion total;
   nlohmann::json per_scan = nlohmann::json::array();
   nlohmann::json empty_scans = nlohmann::json::array();  // {scan, reason} of scans with no valid point
-  std::size_t masked = 0, points = 0, dynamic_points = 0, unscored = 0, dropped = 0, out_of_range = 0, free_space_added = 0,
+  std::size_t masked = 0, points = 0, dynamic_points = 0, unscored = 0, dropped = 0, out_of_range = 0,
+              viewpoints_missing = 0, free_space_added = 0,
               tracked = 0, void_added = 0, void_vetoed = 0, ends_vetoed = 0;
   // Busy time of each stage (they overlap: the sum exceeds the wall time).
   double read_s = 0, odometry_s = 0, preparing_s = 0, scoring_s = 0, mapping_s = 0, write_s = 0,

@@ -50,6 +50,8 @@ TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
                     " --voxel-size 0.1", &out), 0) << out;
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
   EXPECT_EQ(summary["layout"].get<std::string>(), "dynamicmap");
+  EXPECT_EQ(summary["poses"].get<std::string>(), "VIEWPOINT (world-frame scans)");
+  EXPECT_EQ(summary["viewpoint_missing_scans"].get<int>(), 0);
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "poses_kitti.txt"));  // no odometry ran
   // Every input point is either in the static output or in the removed one: raw points only.
   const Scan kept = read_cloud(dir / "out" / "map_static.pcd");
@@ -63,6 +65,42 @@ TEST(DynamicMapLayout, RunKeepsRawPointsAndEvalMapScoresThem) {
   // Measured: SA 99.86, DA 93.4, AA 96.6, HA 96.5 (16 scans, all ranges).
   EXPECT_GT(m["SA"].get<double>(), 98.0) << out;
   EXPECT_GT(m["DA"].get<double>(), 70.0) << out;
+}
+
+// Where the scans' poses came from is stated (issue 45: a missing VIEWPOINT silently meant the
+// origin, and a poses.txt beside pcd/ replaced the VIEWPOINTs while summary.json still said
+// VIEWPOINT).
+TEST(DynamicMapLayout, MissingViewpointsAndAPoseFileAreStated) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "seq" / "pcd");
+  LidarModel lidar;
+  lidar.beams = 16;
+  lidar.columns = 256;
+  auto placed = to_world(simulate_sequence(make_street_world(4), lidar, 4, 4).scans);
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    placed[i].time.resize(0);
+    CloudWriteOptions o;
+    if (i != 2) o.viewpoint = placed[i].pose;  // scan 2 has none
+    write_cloud(dir / "seq" / "pcd" / (placed[i].name + ".pcd"), placed[i], {}, o);
+  }
+  std::string out;
+  ASSERT_EQ(run_cleanmap("run --online --input " + (dir / "seq").string() + " --out " + (dir / "a").string(), &out), 0) << out;
+  EXPECT_NE(out.find("scan 000002 has no VIEWPOINT"), std::string::npos) << out;
+  auto s = nlohmann::json::parse(std::ifstream(dir / "a" / "summary.json"));
+  EXPECT_EQ(s["viewpoint_missing_scans"].get<int>(), 1);
+  std::ofstream poses(dir / "seq" / "poses.txt");
+  for (const auto& w : placed) {
+    const Eigen::Matrix4d m = w.pose->matrix();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c) poses << m(r, c) << (r == 2 && c == 3 ? "\n" : " ");
+    }
+  }
+  poses.close();
+  ASSERT_EQ(run_cleanmap("run --online --input " + (dir / "seq").string() + " --out " + (dir / "b").string(), &out), 0) << out;
+  EXPECT_NE(out.find("replace the scans' VIEWPOINTs"), std::string::npos) << out;
+  s = nlohmann::json::parse(std::ifstream(dir / "b" / "summary.json"));
+  EXPECT_NE(s["poses"].get<std::string>().find("poses.txt (instead of the files' VIEWPOINT)"), std::string::npos) << s["poses"];
+  EXPECT_EQ(s["viewpoint_missing_scans"].get<int>(), 0);
 }
 
 }  // namespace
