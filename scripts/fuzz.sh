@@ -10,7 +10,8 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_pcd fuzz_ply fuzz_kitti_bin fuzz_label fuzz_pose_file fuzz_calib
-                                     fuzz_point_cloud2 fuzz_ros2_cdr fuzz_mcap fuzz_png fuzz_preset)
+                                     fuzz_point_cloud2 fuzz_ros2_cdr fuzz_mcap fuzz_png fuzz_preset fuzz_sqlite_bag
+                                     fuzz_depth_files)
 build=build-fuzz
 data="${CLEANMAP_SHARED_DATA:-../shared/data}"
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCLEANMAP_FUZZ=ON \
@@ -76,6 +77,23 @@ chunk = struct.pack("<QQQI", 1500000000, 1500000000, len(inner), 0) + s(b"") + s
 magic = b"\x89MCAP0\r\n"
 sys.stdout.buffer.write(magic + rec(1, s(b"ros2") + s(b"cleanmap")) + rec(6, chunk) + rec(15, struct.pack("<I", 0))
                         + rec(2, struct.pack("<QQI", 0, 0, 0)) + magic)' | seed fuzz_mcap one.mcap
+
+# A rosbag2 sqlite3 file (its two tables, one message), built by Python's sqlite3 module, and
+# the depth sequence's text files plus a rosbag2 metadata.yaml for fuzz_depth_files.
+rm -f "$build/corpus/seed.db3"
+/usr/bin/python3 -c '
+import sqlite3, sys
+db = sqlite3.connect(sys.argv[1])
+db.executescript("CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+                 "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, data BLOB NOT NULL);")
+db.execute("INSERT INTO topics VALUES (1, ?, ?, ?, ?)", ("/points", "sensor_msgs/msg/PointCloud2", "cdr", ""))
+db.execute("INSERT INTO messages VALUES (1, 1, 1500000000, ?)", (bytes(64),))
+db.commit()' "$build/corpus/seed.db3"
+seed fuzz_sqlite_bag one.db3 < "$build/corpus/seed.db3"
+rm -f "$build/corpus/seed.db3"
+printf 'fx: 525.0\nfy: 525.0\ncx: 319.5\ncy: 239.5\ndepth_scale: 5000\nmax_depth: 4.0\nmin_depth: 0.1\ndistortion: [0.1, -0.2, 0, 0, 0]\n' | seed fuzz_depth_files camera.yaml
+printf '# depth maps\n# timestamp filename\n1305031102.160407 depth/1305031102.160407.png\n1305031102.194330 depth/1305031102.194330.png\n' | seed fuzz_depth_files depth.txt
+printf 'rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n  relative_file_paths: [log_0.db3]\n  duration: {nanoseconds: 100}\n  starting_time: {nanoseconds_since_epoch: 1}\n  message_count: 1\n  topics_with_message_count:\n    - topic_metadata: {name: /points, type: sensor_msgs/msg/PointCloud2, serialization_format: cdr}\n      message_count: 1\n  compression_format: zstd\n  compression_mode: MESSAGE\n' | seed fuzz_depth_files metadata.yaml
 
 mkdir -p "$build/findings"
 status=0

@@ -96,3 +96,25 @@ def test_mixed_poses_are_refused():
     mapper.push(pts, pose=np.eye(4))
     with pytest.raises(ValueError, match="give every scan a pose or none"):
         mapper.push(pts)
+
+
+def test_georeferenced_poses_give_the_same_labels_near_a_local_origin(sk07, preset):
+    # SemanticKITTI 07 pushed twice: as it is, and with every pose 500 km east and 5,000 km
+    # north (UTM-like). The mapper works relative to the first pose rounded to the kilometre:
+    # labels identical, result poses back in the pushed frame.
+    offset = np.array([500000.0, 5000000.0, 0.0])
+    runs = []
+    for shift in (np.zeros(3), offset):
+        mapper = cleanmap.OnlineMapper(cleanmap.Config.from_preset(preset))
+        results = []
+        for s in cleanmap.read_log(str(sk07)):
+            pose = s.pose.copy()
+            pose[:3, 3] = np.round(pose[:3, 3] * 256) / 256 + shift  # exact in double either way
+            results += mapper.push(s.points, times=s.times, pose=pose, stamp=s.stamp)
+        results += mapper.finish()
+        runs.append((mapper.map_origin, results))
+    assert np.array_equal(runs[0][0], np.zeros(3))
+    assert np.array_equal(runs[1][0], offset)
+    for near, far in zip(runs[0][1], runs[1][1]):
+        assert np.array_equal(near.labels, far.labels)
+        assert np.allclose(far.pose[:3, 3] - near.pose[:3, 3], offset, atol=1e-6)
