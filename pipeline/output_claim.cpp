@@ -10,6 +10,7 @@
 #include <fstream>
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <thread>
 
 #include "pipeline/interrupt.hpp"
@@ -101,7 +102,20 @@ void stamp(const fs::path& out, int fd) {
   }
 }
 
-// Empties an earlier cleanmap output for --overwrite; refuses folders cleanmap did not write.
+// What cleanmap's commands write at the top of OUT (each command's own files and folders, the
+// report, the lock, the offline spills). --overwrite removes these and nothing else.
+bool written_by_cleanmap(const std::string& name) {
+  static const std::set<std::string> names{
+      "summary.json", "summary.json.tmp", kLockName, ".offline", "map.bt", "map.ot", "map_2d.pgm", "map_2d.yaml",
+      "map_raw.pcd", "map_static.pcd", "map_static.ply", "map_dynamic.pcd", "static.pcd", "dynamic.pcd", "poses.txt",
+      "times.txt", "poses_kitti.txt", "poses_tum.txt", "odometry_log.csv", "config.yaml", "labels", "scores", "scans",
+      "sequence", "sequences", "run", "with", "without", "report", "report.html", "error_vs_distance.png", "maps.png",
+      "per_scan.png", "trajectory.png"};
+  return names.count(name) > 0;
+}
+
+// Empties an earlier cleanmap output for --overwrite: a folder whose summary.json carries
+// cleanmap's marker, holding only what cleanmap writes. Anything else is refused, untouched.
 // The lock file, held by this command, stays.
 void empty_earlier_output(const OutputRequest& r) {
   std::size_t entries = 0;
@@ -114,13 +128,19 @@ void empty_earlier_output(const OutputRequest& r) {
   bool ours = false;
   try {
     std::ifstream f(r.out / "summary.json");
-    ours = f && nlohmann::json::parse(f).contains("command");
+    ours = f && nlohmann::json::parse(f).contains(kOutputMarker);
   } catch (const std::exception&) {
     ours = false;
   }
   if (!ours) {
-    fail(r.out, "is not empty and holds no cleanmap summary.json: --overwrite only replaces an earlier cleanmap "
-                "output; choose a new folder");
+    fail(r.out, "is not empty and holds no cleanmap summary.json (with its \"" + std::string(kOutputMarker) +
+                    "\" key): --overwrite only replaces an earlier cleanmap output; choose a new folder");
+  }
+  for (const auto& e : fs::directory_iterator(r.out)) {
+    if (!written_by_cleanmap(e.path().filename().string())) {
+      fail(r.out, "holds '" + e.path().filename().string() + "', which cleanmap does not write: --overwrite removes "
+                  "only cleanmap's outputs, so nothing was removed; move it away or choose a new folder");
+    }
   }
   for (const auto& e : fs::directory_iterator(r.out)) {
     if (e.path().filename() == kLockName) continue;

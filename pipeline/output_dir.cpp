@@ -20,6 +20,7 @@ void write_summary(const std::filesystem::path& out, nlohmann::json summary, boo
                    const std::string& error) {
   summary["complete"] = complete;
   if (!error.empty()) summary["error"] = error;
+  summary[kOutputMarker] = 1;  // this folder is a cleanmap output (output_claim.cpp)
   const auto tmp = out / "summary.json.tmp";
   {
     std::ofstream f(tmp);

@@ -29,6 +29,11 @@ struct RemovedAtExit {
   }
 };
 
+// The key every cleanmap summary.json carries (value: the output format, 1): only a folder with
+// it is an earlier cleanmap output that --overwrite may empty. A "command" key alone had been
+// the rule, and another tool's summary.json cost a user's thesis.tex (issue 45).
+inline constexpr const char* kOutputMarker = "cleanmap_output";
+
 // Writes OUT/summary.json atomically (temporary file, then rename): a reader never sees half a
 // summary, and "complete": true appears only once everything else is written.
 void write_summary(const std::filesystem::path& out, nlohmann::json summary, bool complete,

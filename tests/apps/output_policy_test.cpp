@@ -80,6 +80,30 @@ TEST(OutputPolicy, AUsedFolderNeedsOverwriteWhichRemovesTheEarlierRun) {
   EXPECT_EQ(read(dir / "mine" / "notes.txt"), "keep");
 }
 
+// Issue 45: --overwrite emptied any folder whose summary.json had a "command" key, and another
+// tool's summary cost a user's thesis.tex. Only a summary with cleanmap's marker makes a folder
+// cleanmap's, and even then a file cleanmap does not write stops the overwrite, untouched.
+TEST(OutputPolicy, OverwriteRemovesOnlyWhatCleanmapWrites) {
+  test::TempDir dir;
+  const fs::path log = small_log(dir), other = dir / "other", out = dir / "out";
+  fs::create_directories(other);
+  std::ofstream(other / "summary.json") << R"({"command": "train", "complete": true})";
+  std::ofstream(other / "thesis.tex") << "keep";
+  auto r = run("run --input " + log.string() + " --out " + other.string() + " --overwrite" + kQuick);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("holds no cleanmap summary.json"), std::string::npos) << r.output;
+  EXPECT_EQ(read(other / "thesis.tex"), "keep");
+  EXPECT_FALSE(fs::exists(other / ".lock"));  // the refused folder is left as it was
+  ASSERT_EQ(run("run --input " + log.string() + " --out " + out.string() + kQuick).code, 0);
+  EXPECT_EQ(summary(out)["cleanmap_output"].get<int>(), 1);
+  std::ofstream(out / "thesis.tex") << "keep";
+  r = run("run --input " + log.string() + " --out " + out.string() + " --overwrite" + kQuick);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("holds 'thesis.tex', which cleanmap does not write"), std::string::npos) << r.output;
+  EXPECT_EQ(read(out / "thesis.tex"), "keep");
+  EXPECT_TRUE(fs::exists(out / "map.ot"));  // nothing was removed
+}
+
 TEST(OutputPolicy, EveryFailureLeavesAnIncompleteSummaryWithTheReason) {
   test::TempDir dir;
   const fs::path log = small_log(dir), out = dir / "out";
