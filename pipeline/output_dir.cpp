@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <mutex>
 
 #include "io/close_checked.hpp"
 #include "io/error.hpp"
@@ -21,6 +22,10 @@ void write_summary(const std::filesystem::path& out, nlohmann::json summary, boo
   summary["complete"] = complete;
   if (!error.empty()) summary["error"] = error;
   summary[kOutputMarker] = 1;  // this folder is a cleanmap output (output_claim.cpp)
+  // One writer at a time: the interrupt watchdog (interrupt.cpp) may mark a summary while the
+  // command writes its own.
+  static std::mutex writing;
+  const std::lock_guard<std::mutex> lock(writing);
   const auto tmp = out / "summary.json.tmp";
   {
     std::ofstream f(tmp);
