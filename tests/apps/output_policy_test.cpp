@@ -148,33 +148,6 @@ TEST(OutputPolicy, CompareChecksItsReferenceBeforeAnyOdometry) {
   EXPECT_FALSE(summary(out)["complete"].get<bool>());
 }
 
-TEST(OutputPolicy, CtrlCStopsAtTheNextScanAndSaysSoInTheSummary) {
-  test::TempDir dir;
-  const fs::path out = dir / "out";
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execl(CLEANMAP_BINARY, CLEANMAP_BINARY, "demo", "--scans", "400", "--beams", "16", "--columns", "256", "--out",
-          out.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  // Wait until the run is under way (its summary exists), then interrupt it.
-  for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 130);
-  const auto s = summary(out);
-  EXPECT_FALSE(s["complete"].get<bool>());
-  EXPECT_NE(s.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.dump();
-}
-
 // A demo run under way (400 scans: tens of seconds), its process.
 pid_t start_demo(const fs::path& out) {
   const pid_t pid = fork();
@@ -189,18 +162,31 @@ pid_t start_demo(const fs::path& out) {
   }
 }
 
+// Waits until the demo's run is under way (its sixth scan is written).
+void wait_under_way(const fs::path& out) {
+  for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
 // A demo run under way, then `sig`: its exit status.
 int exit_after_signal(const fs::path& out, int sig) {
   const pid_t pid = start_demo(out);
   if (pid < 0) return -1;
-  // Wait until the run is under way (its summary exists), then interrupt it.
-  for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  wait_under_way(out);
   kill(pid, sig);
   int status = 0;
   waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+TEST(OutputPolicy, CtrlCStopsAtTheNextScanAndSaysSoInTheSummary) {
+  test::TempDir dir;
+  const fs::path out = dir / "out";
+  EXPECT_EQ(exit_after_signal(out, SIGINT), 130);
+  const auto s = summary(out);
+  EXPECT_FALSE(s["complete"].get<bool>());
+  EXPECT_NE(s.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.dump();
 }
 
 TEST(OutputPolicy, SigtermStopsAtTheNextScanAndExits143) {
@@ -219,9 +205,7 @@ TEST(OutputPolicy, ASecondCommandOnAHeldOutIsRefusedNamingTheHolder) {
   const fs::path out = dir / "out";
   const pid_t a = start_demo(out);
   ASSERT_GT(a, 0);
-  for (int k = 0; k < 600 && !fs::exists(out / "sequence" / "scans" / "000005.pcd"); ++k) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  wait_under_way(out);
   std::size_t before = 0;
   for ([[maybe_unused]] const auto& e : fs::recursive_directory_iterator(out)) ++before;
   const auto b = test::cli("demo --scans 5 --overwrite --out " + out.string());
