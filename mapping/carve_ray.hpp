@@ -11,6 +11,11 @@
 
 namespace cleanmap {
 
+// The most cells a map's settings may make one ray walk (max_range / resolution): 30 m at 3 mm,
+// 300 m at 3 cm, finer than any sensor's range noise. A scan casts thousands of rays (issue 45:
+// --resolution 0.001 passed the reach check and a run never ended). Both maps check it.
+inline constexpr double kMaxCellsPerRay = 10000.0;
+
 // Walks the cells the segment from -> to crosses on the tree's grid (a 3D DDA, the traversal
 // of OctoMap's computeRayKeys run from the far end), from `from`'s cell (included when
 // `include_first`) to `to`'s cell (included), adding them to `carved`. Stops after a few

@@ -91,9 +91,6 @@ void write_checked(const std::filesystem::path& file, Write&& write) {
 
 }  // namespace
 
-// 30 m at 3 mm, 300 m at 3 cm: finer than any range noise a sensor has.
-constexpr double kMaxCellsPerRay = 10000.0;
-
 void validate(const MapConfig& c) {
   auto bad = [](const std::string& what) { throw Error("mapping: " + what); };
   if (!(c.resolution > 0)) bad("resolution must be positive");
@@ -106,8 +103,6 @@ void validate(const MapConfig& c) {
   if (c.insert_voxel < 0) bad("insert_voxel must be >= 0");
   // OctoMap's keys are 16-bit: a tree reaches 32768 leaves from its origin, and rays beyond that
   // fail one error line per point (a 1e-9 m resolution printed 19k of them).
-  // A ray walks max_range / resolution cells, and a scan casts thousands of rays (issue 45:
-  // --resolution 0.001 passed the check below and a run never ended).
   if (c.max_range / c.resolution > kMaxCellsPerRay) {
     char msg[200];
     std::snprintf(msg, sizeof msg, "resolution %g m is too fine for map_max_range %g m: a ray would walk %.0f cells "

@@ -96,8 +96,9 @@ void VisibilityMap::fit_surfaces() {
 void validate(const VisibilityConfig& c) {
   auto bad = [](const std::string& what) { throw Error("visibility: " + what); };
   if (!std::isfinite(c.resolution) || !(c.resolution > 0)) bad("visibility_resolution must be positive");
-  // A ray walks max_range / resolution cells (as the OctoMap's, mapping/octomap_builder.cpp).
-  if (c.max_range / c.resolution > 10000.0) bad("visibility_resolution is too fine for visibility_max_range: a ray would walk over 10000 cells");
+  if (c.max_range / c.resolution > kMaxCellsPerRay) {
+    bad("visibility_resolution is too fine for visibility_max_range: a ray would walk over 10000 cells");
+  }
   if (!std::isfinite(c.margin) || !(c.margin >= 0)) bad("visibility_margin must be >= 0");
   if (!std::isfinite(c.extent_margin) || !(c.extent_margin >= 0)) bad("visibility_extent_margin must be >= 0");
   if (!std::isfinite(c.angular_margin) || !(c.angular_margin >= 0))
