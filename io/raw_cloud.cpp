@@ -131,7 +131,9 @@ const std::uint8_t* packed_rows(const std::uint8_t* data, std::size_t bytes, std
                                 std::size_t& packed_bytes) {
   const std::uint64_t row = std::uint64_t{width} * point_step;
   packed_bytes = bytes;
-  if (height <= 1 || row_step == row) return data;
+  // A row of no bytes (no points, or a point step of 0) has nothing to pack; copying it
+  // would hand memcpy the empty storage's null pointer (UBSan, fuzz_ros2_cdr).
+  if (height <= 1 || row_step == row || row == 0) return data;
   if (row_step < row) {
     fail(source, "row_step " + std::to_string(row_step) + " is shorter than a row's " + std::to_string(width) +
                      " points of " + std::to_string(point_step) + " bytes");
