@@ -62,14 +62,6 @@ Sequence open_checked(const PipelineOptions& opt, const PipelineConfig& cfg) {
   return seq;
 }
 
-// The visibility map weighs hits and misses as the OctoMap does.
-VisibilityConfig visibility_config(const PipelineConfig& cfg) {
-  VisibilityConfig v = cfg.mapping.visibility;
-  v.prob_hit = cfg.mapping.map.prob_hit;
-  v.prob_miss = cfg.mapping.map.prob_miss;
-  v.free_probability = cfg.mapping.map.free_probability;
-  return v;
-}
 
 // Pass 1 (offline) or the only pass (online): five stages on consecutive scans at once (TBB
 // pipeline, each stage in order): read + pose, the scorer's preparation, scoring, mapping
@@ -299,8 +291,12 @@ void PipelineRun::release(PipelineItem& item, std::vector<ScoredScan> scored, bo
   std::vector<ScoredScan> ready;
   for (auto& s : scored) append(ready, tracker.push(std::move(s)));
   if (last) append(ready, tracker.finish());
-  for (auto& r : ready) {  // the stream's first and last scan (judge passes over the rest)
-    if (ends) ends_vetoed += ends->judge(r, visibility_config(cfg), cfg.mapping.free_space_objects, cfg.mapping.free_space_voxel);
+  for (auto& r : ready) {  // the stream's first and last scan, judged in stage 4 (map_scan)
+    if (!ends) break;
+    auto j = ends->plan(r);
+    if (j.with.empty()) continue;
+    std::lock_guard<std::mutex> lock(judgements_mutex);
+    judgements[r.index] = std::move(j);
   }
   if (last && ready.size() > 1) {  // the rest leaves with the flush items
     std::move(ready.begin() + 1, ready.end(), std::back_inserter(held));
@@ -321,6 +317,14 @@ void PipelineRun::flush(PipelineItem& item) {
     waiting.erase(r.index);
     item.scored.emplace_back(std::move(r), std::move(labels));
   }
+}
+
+VisibilityConfig visibility_config(const PipelineConfig& cfg) {
+  VisibilityConfig v = cfg.mapping.visibility;
+  v.prob_hit = cfg.mapping.map.prob_hit;
+  v.prob_miss = cfg.mapping.map.prob_miss;
+  v.free_probability = cfg.mapping.map.free_probability;
+  return v;
 }
 
 void run_pipeline(const PipelineOptions& opt, const PipelineConfig& cfg, nlohmann::json summary) {

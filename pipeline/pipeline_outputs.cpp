@@ -22,6 +22,18 @@ namespace cleanmap::pipeline {
 void PipelineRun::map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sensor) {
   if (!opt.mapping) return;
   const auto t = Clock::now();
+  std::optional<StreamEnds::Judgement> judgement;
+  {
+    std::lock_guard<std::mutex> lock(judgements_mutex);
+    if (auto it = judgements.find(r.index); it != judgements.end()) {
+      judgement = std::move(it->second);
+      judgements.erase(it);
+    }
+  }
+  if (judgement) {
+    ends_vetoed += StreamEnds::judge(r, *judgement, visibility_config(cfg), cfg.mapping.free_space_objects,
+                                     cfg.mapping.free_space_voxel);
+  }
   Scan& scan = r.scan;
   if (cfg.mapping.free_space) {
     const auto objects = free_space_objects(

@@ -34,6 +34,9 @@ namespace cleanmap::pipeline {
 using Clock = std::chrono::steady_clock;
 inline double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// The visibility map's settings: it weighs hits and misses as the OctoMap does.
+VisibilityConfig visibility_config(const PipelineConfig& cfg);
+
 // One scan (or, after the log, one of the scans the scorer and tracker still hold) on its way
 // through the five stages.
 struct PipelineItem {
@@ -70,8 +73,8 @@ struct PipelineRun {
   // `item` with its labels; `last`: the stream ended, they hand over what they hold.
   void release(PipelineItem& item, std::vector<ScoredScan> scored, bool last);
   void flush(PipelineItem& item);  // a flush item takes one held scan (the last, all left)
-  // Stage 4: the occupancy opinion, then the static points into the map, rays cast from where
-  // the sensor was (`sensor`, known once the log's poses are: pass 2) or from the scan's pose.
+  // Stage 4: an online end scan's judgement (StreamEnds), the occupancy opinion, then the
+  // static points into the map, rays cast from where the sensor was (`sensor`, known once the log's poses are: pass 2) or from the scan's pose.
   void map_scan(ScoredScan& r, const std::optional<SweepOrigin>& sensor = std::nullopt);
   // The scorer's dynamic points leave the odometry's local map (`exclude_dynamic`).
   void feed_back(const ScoredScan& r);
@@ -100,7 +103,11 @@ struct PipelineRun {
   std::unique_ptr<OctoMapBuilder> octo;
   std::unique_ptr<VisibilityMap> visibility;
   LogFloor floor;  // offline: the whole log's lowest points, for pass 2's ground
-  std::unique_ptr<StreamEnds> ends;  // online: the first and last scan's judge (stage 2)
+  std::unique_ptr<StreamEnds> ends;  // online: the first and last scan's judge (planned in stage 3)
+  // The end scans' judgements, by scan index: stage 3 (release) plans them, stage 4 (map_scan)
+  // judges and removes them.
+  std::map<std::size_t, StreamEnds::Judgement> judgements;
+  std::mutex judgements_mutex;
   SpatiotemporalScorer scorer;
   ObjectTracker tracker;
   std::map<std::size_t, std::vector<std::uint32_t>> waiting;  // stage 2: labels of unscored scans

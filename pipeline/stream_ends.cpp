@@ -18,19 +18,26 @@ void StreamEnds::add(const Scan& world, const StampedPose& pose) {
   recent_.push_back(std::move(seen));
 }
 
-std::size_t StreamEnds::judge(ScoredScan& r, const VisibilityConfig& config, const ObjectRule& rule, double voxel) {
-  std::size_t vetoed = 0;
+StreamEnds::Judgement StreamEnds::plan(const ScoredScan& r) {
+  Judgement j;
   if (r.scans_before == 0) {
-    vetoed = judge_with(r, first_, config, rule, voxel);
+    j.with.push_back(first_);
     first_done_ = true;
     first_.clear();
   }
-  if (r.scans_after == 0) vetoed += judge_with(r, recent_, config, rule, voxel);
+  if (r.scans_after == 0) j.with.push_back(recent_);
+  return j;
+}
+
+std::size_t StreamEnds::judge(ScoredScan& r, const Judgement& j, const VisibilityConfig& config,
+                              const ObjectRule& rule, double voxel) {
+  std::size_t vetoed = 0;
+  for (const auto& scans : j.with) vetoed += judge_with(r, scans, config, rule, voxel);
   return vetoed;
 }
 
 std::size_t StreamEnds::judge_with(ScoredScan& r, const Scans& scans, const VisibilityConfig& config,
-                                   const ObjectRule& rule, double voxel) const {
+                                   const ObjectRule& rule, double voxel) {
   const auto has = [&](const std::shared_ptr<const Seen>& s) { return s->index == r.index; };
   if (r.scan.size() == 0 || std::none_of(scans.begin(), scans.end(), has)) return 0;
   // Only the dynamic points can be vetoed: the scans' hits and rays around them.

@@ -20,17 +20,6 @@ namespace cleanmap::pipeline {
 // the scorer and tracker N or 2N scans after scan 2N came in), and always the last `keep`
 // (the scorer's window, 2N+1).
 class StreamEnds {
- public:
-  explicit StreamEnds(std::size_t keep) : keep_(keep) {}
-  std::size_t keep() const { return keep_; }
-  // A scan as the scorer receives it (world frame), in the same order (the n-th call is
-  // ScoredScan::index n), with its entry of the run's poses; one without a pose is left out.
-  void add(const Scan& world, const StampedPose& pose);
-  // Points of `r` made static: the first scan (scans_before 0) with the first scans, the last
-  // (scans_after 0) with the last ones; none unless those include it. Judging the first scan
-  // lets the first scans go.
-  std::size_t judge(ScoredScan& r, const VisibilityConfig& config, const ObjectRule& rule, double voxel);
-
  private:
   struct Seen {
     std::size_t index = 0;
@@ -40,8 +29,33 @@ class StreamEnds {
     StampedPose pose;
   };
   using Scans = std::deque<std::shared_ptr<const Seen>>;  // a scan may be in both
-  std::size_t judge_with(ScoredScan& r, const Scans& scans, const VisibilityConfig& config, const ObjectRule& rule,
-                         double voxel) const;
+
+ public:
+  // The scans one end scan is judged with, as they were when it left the tracker: plain data,
+  // so that the judging can run in a later stage than the planning (see plan()).
+  struct Judgement {
+    std::vector<Scans> with;  // the first scans, the last ones, or both (a short log)
+  };
+
+  explicit StreamEnds(std::size_t keep) : keep_(keep) {}
+  std::size_t keep() const { return keep_; }
+  // A scan as the scorer receives it (world frame), in the same order (the n-th call is
+  // ScoredScan::index n), with its entry of the run's poses; one without a pose is left out.
+  void add(const Scan& world, const StampedPose& pose);
+  // What `r` is to be judged with: the first scan (scans_before 0) with the first scans, the
+  // last (scans_after 0) with the last ones; nothing unless those include it. Planning the
+  // first scan lets the first scans go. Called in scan order, in the stage that calls add().
+  Judgement plan(const ScoredScan& r);
+  // Points of `r` made static by its judgement. Reads only `j` and the settings: it may run in
+  // another stage than add() and plan() (an online run's mapping stage, beside the scoring of
+  // the scans after: judging the street's first and last scan took 0.8 and 0.5 s of the
+  // scoring stage, which every other stage waits for).
+  static std::size_t judge(ScoredScan& r, const Judgement& j, const VisibilityConfig& config, const ObjectRule& rule,
+                           double voxel);
+
+ private:
+  static std::size_t judge_with(ScoredScan& r, const Scans& scans, const VisibilityConfig& config,
+                                const ObjectRule& rule, double voxel);
   std::size_t keep_;
   Scans first_, recent_;
   bool first_done_ = false;

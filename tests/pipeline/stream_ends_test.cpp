@@ -27,6 +27,11 @@ Scan wall_at(float x) {
 }
 
 // The n-th scan of a sensor standing still, 10 Hz.
+// Plans and judges at once, as one stage would.
+std::size_t judge_now(StreamEnds& ends, ScoredScan& r) {
+  return StreamEnds::judge(r, ends.plan(r), VisibilityConfig{}, kFreeSpaceRule, 0.2);
+}
+
 void add(StreamEnds& ends, Scan scan, int n) {
   scan.stamp = 0.1 * n;
   ends.add(scan, StampedPose{scan.stamp, *scan.pose});
@@ -44,7 +49,7 @@ std::size_t last_scan_vetoed(float before) {
   last.scan.stamp = 0.3;
   last.dynamic.assign(last.scan.size(), 1);
   last.scans_after = 0;
-  const std::size_t vetoed = ends.judge(last, VisibilityConfig{}, kFreeSpaceRule, 0.2);
+  const std::size_t vetoed = judge_now(ends, last);
   EXPECT_EQ(static_cast<std::size_t>(std::count(last.dynamic.begin(), last.dynamic.end(), 0)),
             vetoed);
   return vetoed;
@@ -76,14 +81,33 @@ TEST(StreamEnds, TheFirstScanIsJudgedWithTheFirstScansWhichThenGo) {
     return r;
   };
   ScoredScan middle = scan(1, 1, 1);  // two-sided: not an end
-  EXPECT_EQ(ends.judge(middle, VisibilityConfig{}, kFreeSpaceRule, 0.2), 0u);
+  EXPECT_EQ(judge_now(ends, middle), 0u);
   ScoredScan first = scan(0, 0, 2);
-  EXPECT_EQ(ends.judge(first, VisibilityConfig{}, kFreeSpaceRule, 0.2), 400u);
+  EXPECT_EQ(judge_now(ends, first), 400u);
   // The first scans are gone now: judged again, scan 0 is no longer at hand.
   ScoredScan again = scan(0, 0, 2);
-  EXPECT_EQ(ends.judge(again, VisibilityConfig{}, kFreeSpaceRule, 0.2), 0u);
+  EXPECT_EQ(judge_now(ends, again), 0u);
   ScoredScan last = scan(2, 2, 0);
-  EXPECT_EQ(ends.judge(last, VisibilityConfig{}, kFreeSpaceRule, 0.2), 400u);
+  EXPECT_EQ(judge_now(ends, last), 400u);
+}
+
+// The judgement is planned in the scoring stage and carried out in the mapping stage, while
+// the scoring stage goes on adding scans: it holds the scans as they were when it was planned.
+TEST(StreamEnds, AJudgementKeepsTheScansItWasPlannedWith) {
+  StreamEnds ends(2);
+  for (int s = 0; s < 2; ++s) add(ends, wall_at(12.0f), s);
+  ScoredScan first;
+  first.index = 0;
+  first.scan = wall_at(12.0f);
+  first.dynamic.assign(first.scan.size(), 1);
+  first.scans_before = 0;
+  first.scans_after = 1;
+  const auto planned = ends.plan(first);
+  ASSERT_EQ(planned.with.size(), 1u);
+  // Two more scans push scan 0 out of the recent ones and replace what the ends hold.
+  for (int s = 2; s < 4; ++s) add(ends, wall_at(6.0f), s);
+  EXPECT_EQ(StreamEnds::judge(first, planned, VisibilityConfig{}, kFreeSpaceRule, 0.2), 400u);
+  EXPECT_TRUE(ends.plan(first).with.front().empty());  // planned again: the first scans are gone
 }
 
 }  // namespace
