@@ -143,7 +143,11 @@ DepthIntrinsics read_depth_intrinsics(const fs::path& file) {
   if (!root.IsMap()) fail(file, "is not a map of camera settings");
   DepthIntrinsics k;
   for (const auto& kv : root) {
-    const auto key = kv.first.as<std::string>();
+    // A key that is a list or a map (`[fx, fy]: 500`) has no name: yaml-cpp's conversion would
+    // throw its own "bad conversion", naming nothing (issue 45).
+    if (!kv.first.IsScalar()) fail(file, "a key that is a list or a map, not a setting's name (line " +
+                                             std::to_string(kv.first.Mark().line + 1) + ")");
+    const auto key = kv.first.Scalar();
     if (key == "fx") k.fx = finite(root, "fx", file);
     else if (key == "fy") k.fy = finite(root, "fy", file);
     else if (key == "cx") k.cx = finite(root, "cx", file);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <array>
 #include <map>
 #include <mutex>
 #include <set>
@@ -80,7 +81,8 @@ class McapWriter {
  public:
   McapWriter(const std::filesystem::path& file, McapCompression compression, std::size_t chunk_bytes = 1 << 20);
   ~McapWriter();
-  std::uint16_t add_channel(const std::string& topic, const std::string& type);  // ROS 2 type, cdr
+  // A ROS 2 type; `encoding`, the messages' (rosbag2 writes cdr; others only to test readers).
+  std::uint16_t add_channel(const std::string& topic, const std::string& type, const std::string& encoding = "cdr");
   void add_message(std::uint16_t channel, std::uint64_t log_time_ns, const std::vector<std::uint8_t>& data);
   void close();
 
@@ -96,7 +98,7 @@ class McapWriter {
   std::vector<std::uint8_t> chunk_, summary_chunk_indexes_, schemas_channels_;
   std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> chunk_index_;
   std::set<std::uint16_t> in_chunk_;  // channels whose schema and channel records this chunk holds
-  std::map<std::uint16_t, std::pair<std::string, std::string>> channel_info_;  // topic, type
+  std::map<std::uint16_t, std::array<std::string, 3>> channel_info_;  // topic, type, encoding
   std::map<std::uint16_t, std::uint64_t> counts_;
   std::uint64_t chunk_start_ = 0, chunk_end_ = 0, first_ = 0, last_ = 0, messages_ = 0, chunks_ = 0;
   std::uint32_t sequence_ = 0;

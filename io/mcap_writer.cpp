@@ -60,14 +60,14 @@ void McapWriter::record(std::vector<std::uint8_t>& out, std::uint8_t opcode, con
   out.insert(out.end(), content.begin(), content.end());
 }
 
-std::uint16_t McapWriter::add_channel(const std::string& topic, const std::string& type) {
+std::uint16_t McapWriter::add_channel(const std::string& topic, const std::string& type, const std::string& encoding) {
   const auto id = static_cast<std::uint16_t>(channel_info_.size() + 1);
-  channel_info_[id] = {topic, type};
+  channel_info_[id] = {topic, type, encoding};
   return id;
 }
 
 void McapWriter::add_message(std::uint16_t channel, std::uint64_t log_time_ns, const std::vector<std::uint8_t>& data) {
-  const auto& [topic, type] = channel_info_.at(channel);
+  const auto& [topic, type, encoding] = channel_info_.at(channel);
   if (!in_chunk_.count(channel)) {  // each chunk carries the schema and channel of what it holds
     std::vector<std::uint8_t> schema, chan;
     put<std::uint16_t>(schema, channel);
@@ -77,7 +77,7 @@ void McapWriter::add_message(std::uint16_t channel, std::uint64_t log_time_ns, c
     put<std::uint16_t>(chan, channel);
     put<std::uint16_t>(chan, channel);
     put_string(chan, topic);
-    put_string(chan, "cdr");
+    put_string(chan, encoding);
     put<std::uint32_t>(chan, 0);  // no metadata
     record(chunk_, kSchema, schema);
     record(chunk_, kChannel, chan);

@@ -114,6 +114,7 @@ struct Ros2BagSource::Impl {
   };
   std::vector<std::unique_ptr<SqliteBagReader>> sqlite;
   std::vector<std::unique_ptr<McapReader>> mcap;
+  std::vector<fs::path> files;  // the storage files, as sqlite / mcap hold them
   bool zstd_messages = false;
   std::vector<Ref> clouds;
 
@@ -130,7 +131,10 @@ struct Ros2BagSource::Impl {
     }
     for (std::size_t f = 0; f < mcap.size(); ++f) {
       mcap[f]->scan(topics, [&](const McapChannel& c, const McapMessageRef& m, const std::uint8_t* d, std::size_t n) {
-        if (c.message_encoding != "cdr") throw Error(c.topic + ": message encoding '" + c.message_encoding + "', not cdr");
+        if (c.message_encoding != "cdr") {
+          fail(files[f], "channel " + std::to_string(c.id) + " (" + c.topic + ") has message encoding '" +
+                             c.message_encoding + "': rosbag2 writes cdr, the only encoding read here");
+        }
         const std::size_t keep = c.topic == whole ? n : std::min(n, kHeadBytes);
         on(c.topic, {f, 0, m}, static_cast<std::int64_t>(m.log_time), std::vector<std::uint8_t>(d, d + keep));
       });
@@ -146,6 +150,7 @@ Ros2BagSource::Ros2BagSource(const fs::path& folder, const BagOptions& options)
     : impl_(std::make_unique<Impl>()), folder_(folder), info_(read_ros2_metadata(folder)) {
   impl_->zstd_messages = !info_.compression_format.empty();
   for (const auto& f : info_.files) {
+    impl_->files.push_back(f);
     if (info_.storage == "sqlite3") impl_->sqlite.push_back(std::make_unique<SqliteBagReader>(f));
     else impl_->mcap.push_back(std::make_unique<McapReader>(f));
   }

@@ -107,6 +107,7 @@ TEST(DepthImage, TheCameraFileIsChecked) {
   expect("fx: 500\nfy: 500\ncx: 1\ncy: 1\nfocal: 3\n", {"camera.yaml", "unknown key 'focal'"});
   expect("fx: .nan\nfy: 500\ncx: 1\ncy: 1\n", {"camera.yaml", "fx: must be finite"});
   expect("fy: 500\ncx: 1\ncy: 1\n", {"camera.yaml", "fx and fy must be given"});
+  expect("fy: 500\n[fx, cx]: 1\n", {"camera.yaml", "a key that is a list or a map", "line 2"});  // was a bad conversion
   expect("fx: 5\nfy: 5\ncx: 1\ncy: 1\ndistortion: [1, 2]\n", {"camera.yaml", "five numbers"});
   expect("fx: 5\nfy: 5\ncx: 1\ncy: 1\ndepth_scale: 0\n", {"camera.yaml", "depth_scale must be positive"});
   test::expect_error([&] { read_depth_intrinsics(dir / "none.yaml"); }, {"none.yaml", "no such camera file"});

@@ -160,6 +160,16 @@ TEST(Ros2BagErrors, EachBrokenBagIsOneClearError) {
   std::copy_n("zzzz", 4, at);
   std::ofstream(dir / "zzzz" / "log_0.mcap", std::ios::binary).write(reinterpret_cast<const char*>(b.data()), b.size());
   test::expect_error([&] { open_sequence(dir / "zzzz"); }, {"log_0.mcap", "unknown compression 'zzzz'"});
+  // A channel whose messages are not CDR: named with the file and the channel (issue 45:
+  // neither was). The bag's storage file rewritten with /points in another encoding.
+  test::write_ros2_bag(dir / "enc", "mcap", McapCompression::kNone, 2);
+  {
+    McapWriter w(dir / "enc" / "log_0.mcap", McapCompression::kNone);
+    const auto ch = w.add_channel("/points", "sensor_msgs/msg/PointCloud2", "json");
+    w.add_message(ch, 1700000000000000000, kFixture);
+    w.close();
+  }
+  test::expect_error([&] { open_sequence(dir / "enc"); }, {"log_0.mcap", "(/points) has message encoding 'json'"});
   // A missing metadata.yaml.
   fs::copy(dir / "z", dir / "nometa", fs::copy_options::recursive);
   fs::remove(dir / "nometa" / "metadata.yaml");
