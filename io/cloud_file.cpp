@@ -1,5 +1,7 @@
 #include "io/cloud_file.hpp"
 
+#include <limits>
+
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
@@ -24,13 +26,13 @@ std::string lower(std::string s) {
 
 // PCL refuses to write a cloud without points; an empty map is still a valid result (a log in
 // which everything moved), so its header is written here: the same fields, 0 points.
-void write_empty_cloud(const std::filesystem::path& file, const std::vector<std::pair<std::string, const float*>>& fields,
+void write_empty_cloud(const std::filesystem::path& file, const std::vector<std::string>& fields,
                        const std::string& ext, const Eigen::Vector4f& origin, const Eigen::Quaternionf& q) {
   std::ofstream out(file, std::ios::binary);
   if (!out) fail(file, "cannot create file");
   if (ext == ".pcd") {
     out << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS";
-    for (const auto& f : fields) out << ' ' << f.first;
+    for (const auto& f : fields) out << ' ' << f;
     out << "\nSIZE";
     for (std::size_t k = 0; k < fields.size(); ++k) out << " 4";
     out << "\nTYPE";
@@ -41,7 +43,7 @@ void write_empty_cloud(const std::filesystem::path& file, const std::vector<std:
         << q.x() << ' ' << q.y() << ' ' << q.z() << "\nPOINTS 0\nDATA binary\n";
   } else if (ext == ".ply") {
     out << "ply\nformat binary_little_endian 1.0\nelement vertex 0\n";
-    for (const auto& f : fields) out << "property float " << f.first << '\n';
+    for (const auto& f : fields) out << "property float " << f << '\n';
     out << "end_header\n";
   } else {
     fail(file, "unsupported cloud extension '" + ext + "' (expected .pcd or .ply)");
@@ -116,21 +118,9 @@ void write_cloud(const std::filesystem::path& file, const Scan& scan,
     }
     fields.emplace_back(f.name, f.values.data());
   }
-  pcl::PCLPointCloud2 cloud;
-  cloud.height = 1;
-  cloud.width = static_cast<std::uint32_t>(scan.size());
-  cloud.is_dense = false;
-  cloud.point_step = static_cast<std::uint32_t>(4 * fields.size());
-  cloud.row_step = cloud.point_step * cloud.width;
-  for (std::size_t k = 0; k < fields.size(); ++k) {
-    pcl::PCLPointField f;
-    f.name = fields[k].first;
-    f.offset = static_cast<std::uint32_t>(4 * k);
-    f.datatype = pcl::PCLPointField::FLOAT32;
-    f.count = 1;
-    cloud.fields.push_back(f);
-  }
-  cloud.data.resize(static_cast<std::size_t>(cloud.row_step));
+  PackedCloud cloud;
+  for (const auto& f : fields) cloud.fields.push_back(f.first);
+  cloud.data.resize(4 * fields.size() * scan.size());
   auto* out = reinterpret_cast<float*>(cloud.data.data());
   for (std::size_t i = 0; i < scan.size(); ++i) {
     float* row = out + i * fields.size();
@@ -138,6 +128,30 @@ void write_cloud(const std::filesystem::path& file, const Scan& scan,
     row[1] = scan.points(1, static_cast<Eigen::Index>(i));
     row[2] = scan.points(2, static_cast<Eigen::Index>(i));
     for (std::size_t k = 3; k < fields.size(); ++k) row[k] = fields[k].second[i];
+  }
+  write_packed_cloud(file, cloud, options);
+}
+
+void write_packed_cloud(const std::filesystem::path& file, PackedCloud& packed, const CloudWriteOptions& options) {
+  const std::size_t step = 4 * packed.fields.size();
+  if (packed.fields.size() < 3 || packed.data.size() % step != 0 ||
+      packed.data.size() / step > std::numeric_limits<std::uint32_t>::max()) {
+    fail(file, "cannot write a cloud of " + std::to_string(packed.data.size()) + " bytes in rows of " +
+                   std::to_string(packed.fields.size()) + " fields");
+  }
+  pcl::PCLPointCloud2 cloud;
+  cloud.height = 1;
+  cloud.width = static_cast<std::uint32_t>(packed.data.size() / step);
+  cloud.is_dense = false;
+  cloud.point_step = static_cast<std::uint32_t>(step);
+  cloud.row_step = cloud.point_step * cloud.width;
+  for (std::size_t k = 0; k < packed.fields.size(); ++k) {
+    pcl::PCLPointField f;
+    f.name = packed.fields[k];
+    f.offset = static_cast<std::uint32_t>(4 * k);
+    f.datatype = pcl::PCLPointField::FLOAT32;
+    f.count = 1;
+    cloud.fields.push_back(f);
   }
   Eigen::Vector4f origin = Eigen::Vector4f::Zero();
   Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
@@ -147,10 +161,17 @@ void write_cloud(const std::filesystem::path& file, const Scan& scan,
   }
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   const auto ext = lower(file.extension().string());
-  if (scan.size() == 0) {
-    write_empty_cloud(file, fields, ext, origin, orientation);
+  if (cloud.width == 0) {
+    write_empty_cloud(file, packed.fields, ext, origin, orientation);
     return;
   }
+  // The bytes go to PCL's cloud for the write and come back whatever happens.
+  cloud.data.swap(packed.data);
+  struct GiveBack {
+    std::vector<std::uint8_t>& a;
+    std::vector<std::uint8_t>& b;
+    ~GiveBack() { a.swap(b); }
+  } give_back{cloud.data, packed.data};
   if (ext == ".pcd") {
     write_pcd(file, cloud, origin, orientation, options.compressed);
   } else if (ext == ".ply") {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -48,5 +49,17 @@ struct CloudWriteOptions {
 // the extension.
 void write_cloud(const std::filesystem::path& file, const Scan& scan,
                  const std::vector<CloudField>& extra = {}, const CloudWriteOptions& options = {});
+
+// Points already packed as rows of float32 fields (x, y, z first): what write_cloud makes of a
+// Scan, for a caller that holds its points that way (a map cloud of millions of points: one
+// packed copy instead of a Scan, its fields and then the rows).
+struct PackedCloud {
+  std::vector<std::string> fields;  // x, y, z, then the rest
+  std::vector<std::uint8_t> data;   // fields.size() float32 per point, point after point
+};
+
+// Writes `cloud` as write_cloud does. Its bytes are lent to PCL's cloud while the file is
+// written and handed back (also when writing fails), so one packed copy serves several files.
+void write_packed_cloud(const std::filesystem::path& file, PackedCloud& cloud, const CloudWriteOptions& options = {});
 
 }  // namespace cleanmap

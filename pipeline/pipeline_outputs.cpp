@@ -171,8 +171,11 @@ void PipelineRun::write_maps() {
   tbb::parallel_invoke(
       [&] { dynamic_cloud.write(opt.out / (opt.mapping ? "map_dynamic.pcd" : "dynamic.pcd")); },
       [&] {
-        static_cloud.write(opt.out / (opt.mapping ? "map_static.pcd" : "static.pcd"));
-        if (opt.mapping) static_cloud.write(opt.out / "map_static.ply");
+        if (opt.mapping) {
+          static_cloud.write({opt.out / "map_static.pcd", opt.out / "map_static.ply"});
+        } else {
+          static_cloud.write(opt.out / "static.pcd");
+        }
         if (opt.mapping && cfg.mapping.write_raw_map) raw_cloud.write(opt.out / "map_raw.pcd");
       },
       [&] {

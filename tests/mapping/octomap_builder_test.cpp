@@ -1,5 +1,6 @@
 #include "mapping/octomap_builder.hpp"
 
+#include <cstring>
 #include <octomap/OcTree.h>
 
 #include <array>
@@ -284,6 +285,48 @@ TEST(PointCloudMap, KeepsRawPointsOnePerVoxelWithFields) {
   for (Eigen::Index i = 0; i < r.points.cols(); ++i) {
     EXPECT_LT(((s.points.colwise() - r.points.col(i)).colwise().norm()).minCoeff(), 1e-6);
   }
+}
+
+// The rows of every scan, in order, with their fields; a scan without intensity drops the
+// field for the whole cloud; points() and both formats agree.
+TEST(PointCloudMap, WritesEveryScansRowsWithTheirFieldsToEachFile) {
+  test::TempDir dir;
+  PointCloudMap map;
+  Scan a;
+  a.points = Eigen::Matrix3Xf::Random(3, 5);
+  a.intensity = Eigen::VectorXf::LinSpaced(5, 1.0f, 5.0f);
+  map.add(a, {1, 0, 1, 1, 0}, {0.1f, 0.2f, 0.3f, 0.4f, 0.5f}, 2);
+  map.write(dir / "with.pcd");
+  {
+    const Scan r = read_cloud(dir / "with.pcd");
+    ASSERT_EQ(r.size(), 3u);
+    ASSERT_TRUE(r.has_intensity());
+    EXPECT_EQ(r.points.col(1), a.points.col(2));
+    EXPECT_EQ(r.intensity[2], 4.0f);
+  }
+  Scan b;
+  b.points = Eigen::Matrix3Xf::Random(3, 2);
+  map.add(b, {1, 1}, {0.6f, 0.7f}, 3);
+  map.add(b, {0, 0}, {0.6f, 0.7f}, 4);  // keeps nothing
+  ASSERT_EQ(map.size(), 5u);
+  map.write(std::vector<std::filesystem::path>{dir / "m.pcd", dir / "m.ply"});
+  const Eigen::Matrix3Xf p = map.points();
+  for (const char* f : {"m.pcd", "m.ply"}) {
+    const Scan r = read_cloud(dir / f);
+    ASSERT_EQ(r.size(), 5u) << f;
+    EXPECT_FALSE(r.has_intensity()) << f;
+    EXPECT_EQ(r.points, p) << f;
+    EXPECT_EQ(r.points.col(0), a.points.col(0)) << f;
+    EXPECT_EQ(r.points.col(4), b.points.col(1)) << f;
+  }
+  // The score and scan fields, by the PCD's own bytes: the last row is 0.7, scan 3.
+  std::ifstream in(dir / "m.pcd", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find("FIELDS x y z score scan"), std::string::npos);
+  float last[2];
+  std::memcpy(last, bytes.data() + bytes.size() - 8, 8);
+  EXPECT_EQ(last[0], 0.7f);
+  EXPECT_EQ(last[1], 3.0f);
 }
 
 }  // namespace
