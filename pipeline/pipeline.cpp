@@ -164,7 +164,7 @@ PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& c
       use_odometry(options.odometry && !seq.world_frame),
       mos_dir(options.mos_predictions ? mos_predictions_dir(options.out, options.input, options.mos_sequence) : fs::path()),
       spill_dir(options.out / ".offline"),
-      mask(platform_mask(seq, config.input.platform)),
+      mask(platform_mask(seq, config.input.platform, &early)),
       scorer(config.scorer),
       tracker(config.scorer.tracks, config.scorer.window_half, config.scorer.objects.radius),
       dynamic_cloud(0.0),
@@ -208,6 +208,15 @@ void PipelineRun::describe(nlohmann::json& summary) const {
   summary["libraries"] = library_versions();
 }
 
+LoadedScan PipelineRun::take_scan(std::size_t index) {
+  if (index < early.size() && early[index]) {
+    LoadedScan loaded = std::move(*early[index]);
+    early[index].reset();
+    return loaded;
+  }
+  return load_scan(seq, index);
+}
+
 std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
   const auto t = Clock::now();
   {
@@ -215,11 +224,11 @@ std::shared_ptr<PipelineItem> PipelineRun::load(std::size_t index) {
     loaded_at.push_back(t);
   }
   const bool primed = index == 1 && second.has_value();
-  LoadedScan loaded = primed ? std::move(*second) : load_scan(seq, index);
+  LoadedScan loaded = primed ? std::move(*second) : take_scan(index);
   if (primed) second.reset();
   read_s += since(t);
   // Scan 1 as read, to prime the odometry at scan 0: kept for load(1), so that it is read once.
-  if (odom && index == 0 && seq.size() > 1) second = load_scan(seq, 1);
+  if (odom && index == 0 && seq.size() > 1) second = take_scan(1);
   return pose_scan(std::move(loaded), index, index + 1 == seq.size(), second ? &*second : nullptr);
 }
 
