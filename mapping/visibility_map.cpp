@@ -118,6 +118,11 @@ VisibilityMap::VisibilityMap(VisibilityMap&&) noexcept = default;
 VisibilityMap& VisibilityMap::operator=(VisibilityMap&&) noexcept = default;
 
 void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points, const std::optional<Eigen::Vector3d>& origin) {
+  add_hits(hits_of(points, origin));
+}
+
+VisibilityMap::ScanHits VisibilityMap::hits_of(const Eigen::Matrix3Xf& points,
+                                               const std::optional<Eigen::Vector3d>& origin) const {
   const double inv = 1.0 / config_.resolution;
   // The scan's boxes first, per kept point (no hash lookup per point), then one lookup per cell.
   const VoxelSample sample = voxel_downsample_with_owners(points, config_.resolution);
@@ -131,22 +136,33 @@ void VisibilityMap::add_hits(const Eigen::Matrix3Xf& points, const std::optional
       b[a + 3] = std::max(b[a + 3], q);
     }
   }
+  ScanHits out;
+  out.cells.reserve(sample.keep.size());
   octomap::OcTreeKey k;
   for (std::size_t j = 0; j < sample.keep.size(); ++j) {
     const Eigen::Vector3f p = points.col(sample.keep[j]);
     if (!grid_->coordToKeyChecked(p.x(), p.y(), p.z(), k)) continue;  // beyond +-6.5 km
-    Counts& c = cells_[voxel_of(p, inv)];
+    std::uint8_t seen_from = 0;
+    if (origin) {
+      for (int a = 0; a < 3; ++a) seen_from |= p[a] > (*origin)[a] ? 1 << a : 1 << (a + 3);
+    }
+    out.cells.push_back({voxel_of(p, inv), {k[0], k[1], k[2]}, box[j], seen_from});
+  }
+  return out;
+}
+
+void VisibilityMap::add_hits(const ScanHits& hits) {
+  for (const ScanHits::Cell& h : hits.cells) {
+    Counts& c = cells_[h.cell];
     bump(c.hits);
     c.first_hit = std::min(c.first_hit, hit_scans_);
     c.last_hit = std::max(c.last_hit, hit_scans_);
-    if (origin) {
-      for (int a = 0; a < 3; ++a) c.seen_from |= p[a] > (*origin)[a] ? 1 << a : 1 << (a + 3);
-    }
+    c.seen_from |= h.seen_from;
     for (int a = 0; a < 3; ++a) {
-      c.lo[a] = std::min(c.lo[a], box[j][a]);
-      c.hi[a] = std::max(c.hi[a], box[j][a + 3]);
+      c.lo[a] = std::min(c.lo[a], h.box[a]);
+      c.hi[a] = std::max(c.hi[a], h.box[a + 3]);
     }
-    hit_cells_.insert({k[0], k[1], k[2]});
+    hit_cells_.insert(h.key);
   }
   if (hit_scans_ < kLastScan) ++hit_scans_;
   surfaces_fitted_ = false;

@@ -121,6 +121,21 @@ class VisibilityMap {
   // std::logic_error when called more often than add_hits). Not thread-safe.
   void add_hits(const Eigen::Matrix3Xf& points, const std::optional<Eigen::Vector3d>& origin = std::nullopt);
 
+  // add_hits in two halves, as cast and count are: one scan's hit cells and their boxes
+  // (read-only, scans side by side: the voxel grid and the boxes are most of the work), then
+  // their counts (one scan at a time, in scan order).
+  struct ScanHits {
+    struct Cell {
+      VoxelKey cell;
+      CellSet::Key key;                 // the same cell as an OctoMap key
+      std::array<std::uint8_t, 6> box;  // lo xyz, hi xyz of the scan's hits in it
+      std::uint8_t seen_from = 0;
+    };
+    std::vector<Cell> cells;  // within the OctoMap's reach only
+  };
+  ScanHits hits_of(const Eigen::Matrix3Xf& points, const std::optional<Eigen::Vector3d>& origin) const;
+  void add_hits(const ScanHits& hits);
+
   // Once every scan's hits are in: the faces of each cell whose hits are a line or a dot (see
   // above). add_rays calls it when needed; cast requires it (throws std::logic_error).
   void fit_surfaces();
