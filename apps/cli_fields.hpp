@@ -20,8 +20,9 @@ CLI::Validator number_in(const Range& r);
 inline const CLI::Validator kNotEmpty(
     [](std::string& text) { return text.empty() ? std::string("an empty value is not a number") : std::string(); }, "");
 
-// One option per field, its built-in default shown in --help; a bool is a flag with a --no-
-// form (--free-space / --no-free-space; --free-space=false works too).
+// One option per field, its built-in default and (numbers) the values it takes shown in
+// --help; a bool is a flag with a --no- form (--free-space / --no-free-space;
+// --free-space=false works too).
 template <typename Config, typename Fields>
 void add_options(CLI::App& app, Config& target, const Fields& fields) {
   auto one = [&](const auto& f) {
@@ -31,9 +32,12 @@ void add_options(CLI::App& app, Config& target, const Fields& fields) {
       app.add_flag(name + ",!--no-" + name.substr(2), value,
                    std::string(f.help) + (value ? " [default: on]" : " [default: off]"));
     } else {
-      auto* option = app.add_option(option_name(f.name), value, f.help)->capture_default_str();
+      using T = std::remove_reference_t<decltype(value)>;
+      std::string help = f.help;
+      if constexpr (std::is_arithmetic_v<T>) help += "; " + pipeline::describe(pipeline::range_of<T>(f.range));
+      auto* option = app.add_option(option_name(f.name), value, help)->capture_default_str();
       // CLI11 reads an empty string as 0 (issue 45: `--radius ''` ran with radius 0).
-      if constexpr (std::is_arithmetic_v<std::remove_reference_t<decltype(value)>>) option->check(kNotEmpty);
+      if constexpr (std::is_arithmetic_v<T>) option->check(kNotEmpty);
     }
   };
   std::apply([&](const auto&... f) { (one(f), ...); }, fields);

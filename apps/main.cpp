@@ -76,6 +76,9 @@ int main(int argc, char** argv) {
   } catch (const cleanmap::Error& e) {
     std::fprintf(stderr, "cleanmap: error: %s\n", e.what());
     return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "cleanmap: error: %s\n", cleanmap::describe(e).c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cleanmap: error: %s\n", e.what());
     return 1;

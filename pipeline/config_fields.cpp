@@ -11,7 +11,13 @@ static const char* const kAllSections[] = {"input", "synthetic", "scorer", "odom
 
 std::string format_number(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
+  // Whole numbers in full (an int's 2147483647, not %g's 2.14748e+09), up to where a double
+  // still holds every integer.
+  if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 1e15 && std::abs(v) >= 1e6) {
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+  } else {
+    std::snprintf(buf, sizeof buf, "%g", v);
+  }
   return buf;
 }
 

@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <filesystem>
@@ -51,6 +52,17 @@ Field<Get> field(const char* name, const char* help, Get get, Range range = kAny
   ::cleanmap::pipeline::field(key, help, [](auto& c) -> auto& { return c.path; }, range)
 
 std::string describe(const Range& r);
+
+// The range a field of type T can take: its own, within what T holds (an int's "at least 1" is
+// [1, 2147483647]; an unsigned one is never negative).
+template <typename T>
+Range range_of(Range r) {
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    r.lo = std::max(r.lo, static_cast<double>(std::numeric_limits<T>::lowest()));
+    r.hi = std::min(r.hi, static_cast<double>(std::numeric_limits<T>::max()));
+  }
+  return r;
+}
 std::string key_name(const YAML::Node& key, const std::filesystem::path& file);  // a map's key, or an error
 std::string format_number(double v);  // %g: 1, 0.5, 1e-09
 

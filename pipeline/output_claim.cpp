@@ -220,6 +220,9 @@ void run_guarded(const OutputRequest& r, const std::function<void()>& body, bool
   } catch (const Error& e) {
     mark_once(e.what());
     throw;
+  } catch (const fs::filesystem_error& e) {
+    mark_once(describe(e));
+    throw Error(describe(e));
   } catch (const std::exception& e) {
     mark_once(std::string("internal error: ") + e.what());
     throw;

@@ -8,14 +8,14 @@
 namespace cleanmap::pipeline {
 
 PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg,
-                           std::vector<std::optional<LoadedScan>>* read) {
+                           std::vector<std::optional<LoadedScan>>* read, std::size_t keep) {
   if (seq.world_frame) return {};
   std::vector<Eigen::Matrix3Xf> first;
   const auto n = std::min(seq.size(), static_cast<std::size_t>(cfg.learn_scans));
   for (std::size_t i = 0; cfg.automatic && i < n; ++i) {
     LoadedScan loaded = load_scan(seq, i);
     first.push_back(loaded.scan.points);
-    if (read) read->emplace_back(std::move(loaded));
+    if (read && i < keep) read->emplace_back(std::move(loaded));
   }
   return learn_platform_mask(first, cfg);
 }

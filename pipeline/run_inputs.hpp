@@ -13,10 +13,10 @@ namespace cleanmap::pipeline {
 
 // The platform mask, learnt from the first scans in the sensor frame (world-frame inputs, such
 // as DynamicMap's, are cleaned already: only the crop box could apply, and it has no frame).
-// `read`, when given, receives the scans it was learnt from, as load_scan gave them (index i at
-// i), so that a run need not read them twice.
+// `read`, when given, receives the first `keep` of the scans it was learnt from, as load_scan
+// gave them (index i at i), so that a run need not read them twice.
 PlatformMask platform_mask(const Sequence& seq, const PlatformMaskConfig& cfg,
-                           std::vector<std::optional<LoadedScan>>* read = nullptr);
+                           std::vector<std::optional<LoadedScan>>* read = nullptr, std::size_t keep = 0);
 
 // Masked points leave the scan before anything sees it; their outputs are label 0 / NaN.
 // Returns how many.

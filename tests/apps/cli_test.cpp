@@ -1,5 +1,9 @@
 // The command line as a user meets it: exit codes, one-line errors, outputs.
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -231,6 +235,73 @@ TEST(CliMosPredictions, TheSequenceNumberComesFromTheFolderOrTheOption) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("--mos-sequence 'x1': not a sequence number"), std::string::npos) << r.output;
 }
+
+// Issue 45 (Also): every numeric option's --help says the values it takes, from the table's
+// range within what its type holds.
+TEST(Cli, EveryNumericOptionShowsItsRangeInHelp) {
+  const auto r = run("run --help");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto line_of = [&](const std::string& option) {
+    const auto at = r.output.find("  " + option + " ");
+    if (at == std::string::npos) return std::string();
+    // An option's help may wrap onto the next line; the next option starts with "  --".
+    const auto end = r.output.find("\n  --", at + 1);
+    return r.output.substr(at, end == std::string::npos ? std::string::npos : end - at);
+  };
+  EXPECT_NE(line_of("--window-half").find("in [1, 1000]"), std::string::npos) << line_of("--window-half");
+  EXPECT_NE(line_of("--radius").find("in [0.001, 100]"), std::string::npos) << line_of("--radius");
+  EXPECT_NE(line_of("--self-mask-scans").find("in [1, 2147483647]"), std::string::npos) << line_of("--self-mask-scans");
+  // Every INT or FLOAT option of the tables says it.
+  std::size_t numeric = 0;
+  for (std::size_t at = r.output.find("\n  --"); at != std::string::npos; at = r.output.find("\n  --", at + 1)) {
+    const std::string option = r.output.substr(at + 3, r.output.find(' ', at + 3) - at - 3);
+    const std::string line = line_of(option);
+    if (line.find(" INT=") == std::string::npos && line.find(" FLOAT=") == std::string::npos) continue;
+    if (line.find("FLOAT=[]") != std::string::npos) continue;  // a list (--crop-box): finite numbers
+    ++numeric;
+    const bool says = line.find("in [") != std::string::npos || line.find("in (") != std::string::npos ||
+                      line.find("> ") != std::string::npos || line.find(">= ") != std::string::npos ||
+                      line.find("finite") != std::string::npos;
+    EXPECT_TRUE(says) << line;
+  }
+  EXPECT_GT(numeric, 50u);
+}
+
+// Issue 45 (8): an unreadable folder was "internal error: filesystem error", an unreadable
+// preset "not valid YAML". Permissions do not bind root, so as root the command runs as
+// nobody (setpriv); without either, there is nothing to test.
+TEST(Cli, WhatCannotBeReadSaysPermissionDeniedAndNamesIt) {
+  std::string prefix;
+  if (::geteuid() == 0) {
+    if (std::system("command -v setpriv > /dev/null 2>&1") != 0) GTEST_SKIP() << "root without setpriv";
+    prefix = "setpriv --reuid=65534 --regid=65534 --clear-groups ";
+  }
+  test::TempDir dir;
+  namespace fs = std::filesystem;
+  fs::permissions(dir.path, fs::perms::all);  // nobody writes the outputs here
+  fs::create_directories(dir / "locked" / "velodyne");
+  fs::permissions(dir / "locked", fs::perms::none);
+  std::ofstream(dir / "secret.yaml") << "scorer_threshold: 0.3\n";
+  fs::permissions(dir / "secret.yaml", fs::perms::none);
+  const auto run_as = [&](const std::string& args) {
+    test::CliResult r;
+    const std::string cmd = prefix + CLEANMAP_BINARY + " " + args + " 2>&1";
+    std::FILE* p = popen(cmd.c_str(), "r");
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, p)) r.output += buf;
+    r.code = WEXITSTATUS(pclose(p));
+    return r;
+  };
+  const auto folder = run_as("run --input " + (dir / "locked").string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(folder.code, 1) << folder.output;
+  EXPECT_NE(folder.output.find((dir / "locked").string() + ": permission denied"), std::string::npos) << folder.output;
+  EXPECT_EQ(folder.output.find("internal error"), std::string::npos) << folder.output;
+  const auto preset = run_as("config --config " + (dir / "secret.yaml").string());
+  EXPECT_NE(preset.code, 0) << preset.output;
+  EXPECT_NE(preset.output.find("secret.yaml: cannot be read (Permission denied)"), std::string::npos) << preset.output;
+  EXPECT_EQ(preset.output.find("not valid YAML"), std::string::npos) << preset.output;
+}
+
 
 }  // namespace
 }  // namespace cleanmap

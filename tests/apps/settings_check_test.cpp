@@ -26,10 +26,10 @@ TEST(SettingsCheck, NonFiniteAndOutOfRangeValuesNameTheSetting) {
       // neighbour cells, 2^31 flush items, 30,000 cells per ray, a street-wide cluster search).
       {"--radius 1e-10", "--radius: must be in [0.001, 100], not 1e-10"},
       {"--cell-size 1e-6", "cell_size must be 0 (= radius) or in [radius / 4, 100] m"},
-      {"--window-half 1073741823", "--window-half: must be in [1, 1000], not 1.07374e+09"},
+      {"--window-half 1073741823", "--window-half: must be in [1, 1000], not 1073741823"},
       {"--resolution 0.001", "too fine for map_max_range"},
       {"--free-space-cluster-radius 1e308", "cluster radius must be in (0, 10] m"},
-      {"--cluster-min-dynamic 0", "--cluster-min-dynamic: must be in [1, 1e+06], not 0"},
+      {"--cluster-min-dynamic 0", "--cluster-min-dynamic: must be in [1, 1000000], not 0"},
       {"--map-origin 1e300 0 0", "--map-origin (input.map_origin) takes 3 numbers within 1e8 m"},
       {"--resolution 1e-9", "--resolution: must be in [0.001, 100], not 1e-09"},
       {"--resolution 0.001 --map-max-range 100", "too fine for map_max_range 100 m"},
