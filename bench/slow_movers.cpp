@@ -5,7 +5,7 @@
 // by default) in pipeline::OnlineMapper, the same stages; the table gives the share of the
 // walker's points labelled moving, and the static points labelled moving (false points).
 //   build/bench/slow_movers [--ranges 10,20] [--speeds 0.1,0.2,...] [--seconds 1,3,5]
-//                           [--sensor-speed 0] [--config PRESET]
+//                           [--sensor-speed 0] [--config PRESET] [--per-scan]
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -31,6 +31,7 @@ std::vector<double> numbers(const std::string& csv) {
 
 struct Found {
   std::size_t moving = 0, found = 0, false_points = 0;
+  std::vector<std::pair<std::size_t, std::size_t>> per_scan;  // found, moving, by scan
 };
 
 enum class Walk { kAcross, kToward };
@@ -56,6 +57,7 @@ Found walker(const pipeline::PipelineConfig& cfg, Walk walk, double range, doubl
   pipeline::OnlineMapper mapper{cfg};
   Found f;
   std::vector<std::vector<std::uint32_t>> truth(scans);
+  f.per_scan.resize(scans);
   const auto tally = [&](const std::vector<pipeline::MapperResult>& results) {
     for (const auto& r : results) {
       const auto& gt = truth[r.index];
@@ -64,6 +66,8 @@ Found walker(const pipeline::PipelineConfig& cfg, Walk walk, double range, doubl
         f.moving += moving;
         f.found += moving && said;
         f.false_points += !moving && said;
+        f.per_scan[r.index].first += moving && said;
+        f.per_scan[r.index].second += moving;
       }
     }
   };
@@ -83,6 +87,8 @@ int main(int argc, char** argv) {
   std::string ranges = "10,20", speeds = "0.1,0.2,0.3,0.5,0.8,1.2", seconds = "1,3,5";
   std::string preset = std::string(CLEANMAP_SOURCE_DIR) + "/config/kitti-hdl64.yaml";
   double sensor_speed = 0.0;
+  bool per_scan = false;
+  app.add_flag("--per-scan", per_scan, "Also print each scan's share found (the log's ends)");
   app.add_option("--sensor-speed", sensor_speed, "The sensor's speed along the wall, m/s (0: standing)");
   app.add_option("--config", preset, "Preset (default: the SemanticKITTI one, a 64-beam car lidar)");
   app.add_option("--ranges", ranges, "Walker's range from the sensor, m (comma-separated)");
@@ -102,6 +108,11 @@ int main(int argc, char** argv) {
           const double share = f.moving ? 100.0 * static_cast<double>(f.found) / static_cast<double>(f.moving) : 0.0;
           std::printf("%-7s %8.0f %8.0f %8.2f %10.1f %10zu %12zu\n", walk == Walk::kToward ? "toward" : "across", r, t,
                       v, share, f.moving, f.false_points);
+          if (per_scan) {
+            std::printf("        per scan:");
+            for (const auto& [found, moving] : f.per_scan) std::printf(" %zu/%zu", found, moving);
+            std::printf("\n");
+          }
           std::fflush(stdout);
         }
       }

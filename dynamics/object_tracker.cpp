@@ -4,6 +4,8 @@
 #include <cmath>
 #include <tuple>
 
+#include "dynamics/track_displacement.hpp"
+
 namespace cleanmap {
 namespace {
 
@@ -45,8 +47,13 @@ std::vector<std::pair<std::size_t, std::size_t>> match_objects(const std::vector
   return out;
 }
 
-ObjectTracker::ObjectTracker(const TrackRule& rule, int window, double margin)
-    : rule_(rule), window_(static_cast<std::size_t>(std::max(window, 0))), margin_(margin) {}
+ObjectTracker::ObjectTracker(const TrackRule& rule, int window, double margin, double pose_noise,
+                             double pose_noise_deg)
+    : rule_(rule),
+      window_(static_cast<std::size_t>(std::max(window, 0))),
+      margin_(margin),
+      pose_noise_(pose_noise),
+      pose_noise_deg_(pose_noise_deg) {}
 
 // Each object continues the track of its match in the previous scan, or starts one.
 void ObjectTracker::chain(Held& now) {
@@ -60,6 +67,26 @@ void ObjectTracker::chain(Held& now) {
       now.track[j] = before.track[i];
       continued[j] = 1;
     }
+  }
+  // Up to kSamples points of each object, spread over its points in scan order.
+  const auto& of = now.scan.objects.of_point;
+  std::vector<std::size_t> count(objects.size(), 0), seen(objects.size(), 0);
+  for (const auto u : of) {
+    if (u >= 0) ++count[static_cast<std::size_t>(u)];
+  }
+  // An object list without its points (hand-made tests) has no samples, so no shifts.
+  const bool has_points = static_cast<Eigen::Index>(of.size()) == now.scan.scan.points.cols();
+  now.samples.resize(objects.size());
+  for (std::size_t u = 0; u < objects.size(); ++u) {
+    now.samples[u].resize(3, has_points ? std::min<Eigen::Index>(kSamples, static_cast<Eigen::Index>(count[u])) : 0);
+  }
+  for (std::size_t k = 0; has_points && k < of.size(); ++k) {
+    if (of[k] < 0) continue;
+    const auto u = static_cast<std::size_t>(of[k]);
+    const std::size_t stride = std::max<std::size_t>(1, count[u] / static_cast<std::size_t>(kSamples));
+    const std::size_t n = seen[u]++;
+    if (n % stride != 0 || static_cast<Eigen::Index>(n / stride) >= now.samples[u].cols()) continue;
+    now.samples[u].col(static_cast<Eigen::Index>(n / stride)) = now.scan.scan.points.col(static_cast<Eigen::Index>(k));
   }
   for (std::size_t j = 0; j < objects.size(); ++j) {
     if (!continued[j]) now.track[j] = next_track_++;
@@ -89,12 +116,76 @@ bool ObjectTracker::moving_near(std::size_t track, std::size_t scan, bool two_si
   return false;
 }
 
+bool ObjectTracker::seen_near(std::size_t track, std::size_t scan) const {
+  const auto it = seen_moving_.find(track);
+  if (it == seen_moving_.end()) return false;
+  for (const Sighting& s : it->second) {
+    if ((s.scan > scan ? s.scan - scan : scan - s.scan) <= window_) return true;
+  }
+  return false;
+}
+
+std::optional<Eigen::Vector3f> ObjectTracker::shift(const Eigen::Matrix3Xf& from, const Eigen::Matrix3Xf& to,
+                                                    double seconds, float range) const {
+  // Half the cluster radius: pairs within it after the shift are the same surface, and a
+  // shift of more than a cluster radius is the centroid rule's (moving_near).
+  const auto reach = static_cast<float>(0.5 * margin_);
+  // Half of each sample paired: the same object, not a cluster that merged or split.
+  constexpr float kOverlap = 0.5f;
+  const Shift s = register_shift(from, to, reach);
+  const float by = s.by.norm();
+  if (s.overlap >= kOverlap && by > displacement_floor(range, pose_noise_, pose_noise_deg_) &&
+      by <= static_cast<float>(rule_.max_speed * seconds + margin_)) {
+    return s.by;
+  }
+  return std::nullopt;
+}
+
+// Registered against the track's earliest sighting within the window and its latest, the
+// object moved beyond the noise floor on both sides, and the same way (the shifts within 60
+// degrees): a mover goes on, while the shifts that sampling lends a standing object (the rings
+// land elsewhere on it from a new viewpoint) point anywhere. Where the window has one side
+// (the log's ends), there is no such evidence.
+bool ObjectTracker::displaced(const Held& held, std::size_t u) const {
+  const Eigen::Matrix3Xf& own = held.samples[u];
+  if (own.cols() < 8) return false;  // too few points to register
+  const std::size_t track = held.track[u], index = held.scan.index;
+  Eigen::Vector3f sensor = Eigen::Vector3f::Zero();
+  if (held.scan.scan.pose) sensor = held.scan.scan.pose->translation().cast<float>();
+  const float range = (held.scan.objects.objects[u].centroid - sensor).norm();
+  const auto sample_of = [&](const std::vector<std::size_t>& tracks,
+                             const std::vector<Eigen::Matrix3Xf>& samples) -> const Eigen::Matrix3Xf* {
+    for (std::size_t v = 0; v < tracks.size(); ++v) {
+      if (tracks[v] == track) return samples[v].cols() >= 8 ? &samples[v] : nullptr;
+    }
+    return nullptr;
+  };
+  std::optional<Eigen::Vector3f> before, after;
+  for (const Past& p : past_) {
+    if (p.scan + window_ < index) continue;
+    if (const auto* earlier = sample_of(p.track, p.samples)) {
+      before = shift(*earlier, own, std::abs(held.scan.scan.stamp - p.stamp), range);
+      break;
+    }
+  }
+  if (!before) return false;
+  for (auto it = held_.rbegin(); it != held_.rend(); ++it) {
+    if (it->scan.index <= index || it->scan.index > index + window_) continue;
+    if (const auto* later = sample_of(it->track, it->samples)) {
+      after = shift(own, *later, std::abs(it->scan.scan.stamp - held.scan.scan.stamp), range);
+      break;
+    }
+  }
+  return after && before->dot(*after) > 0.5f * before->norm() * after->norm();
+}
+
 ScoredScan ObjectTracker::release(Held held) {
   ScoredScan& s = held.scan;
   const auto& objects = s.objects.objects;
   std::vector<std::uint8_t> moving(objects.size(), 0);
   for (std::size_t u = 0; u < objects.size(); ++u) {
-    moving[u] = !objects[u].seen_moving && moving_near(held.track[u], s.index);
+    moving[u] = !objects[u].seen_moving && (moving_near(held.track[u], s.index) ||
+                                             (seen_near(held.track[u], s.index) && displaced(held, u)));
   }
   const auto& of = s.objects.of_point;
   for (std::size_t k = 0; k < of.size(); ++k) {
@@ -122,6 +213,8 @@ ScoredScan ObjectTracker::release(Held held) {
     while (!v.empty() && v.front().scan + 2 * window_ < s.index) v.erase(v.begin());
     it = v.empty() ? seen_moving_.erase(it) : std::next(it);
   }
+  past_.push_back({s.index, s.scan.stamp, std::move(held.track), std::move(held.samples)});
+  while (!past_.empty() && past_.front().scan + window_ < s.index + 1) past_.pop_front();
   return std::move(held.scan);
 }
 

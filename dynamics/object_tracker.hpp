@@ -2,6 +2,7 @@
 
 #include <deque>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "dynamics/object_rule.hpp"
@@ -27,7 +28,10 @@ namespace cleanmap {
 // sides, says otherwise.
 class ObjectTracker {
  public:
-  ObjectTracker(const TrackRule& rule, int window, double margin);
+  // `pose_noise` (m) and `pose_noise_deg`: each scan's pose error (1 sigma), for the shift a
+  // standing object's points may show between two scans (displacement_floor).
+  ObjectTracker(const TrackRule& rule, int window, double margin, double pose_noise = 0.0,
+                double pose_noise_deg = 0.0);
 
   std::vector<ScoredScan> push(ScoredScan scan);
   std::vector<ScoredScan> finish();
@@ -36,7 +40,16 @@ class ObjectTracker {
   struct Held {
     ScoredScan scan;
     std::vector<std::size_t> track;  // per object
+    std::vector<Eigen::Matrix3Xf> samples;  // per object: up to kSamples of its points
   };
+  // A released scan's sightings, for the scans after it to register against.
+  struct Past {
+    std::size_t scan = 0;
+    double stamp = 0.0;
+    std::vector<std::size_t> track;
+    std::vector<Eigen::Matrix3Xf> samples;
+  };
+  static constexpr Eigen::Index kSamples = 32;
   struct Sighting {
     std::size_t scan = 0;  // ScoredScan::index
     Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
@@ -45,12 +58,23 @@ class ObjectTracker {
   void chain(Held& now);
   // `two_sided`: only sightings from scans scored with both sides of the window confirm.
   bool moving_near(std::size_t track, std::size_t scan, bool two_sided = false) const;
+  // The track was seen moving (by the normals) in a scan within the window of `scan`.
+  bool seen_near(std::size_t track, std::size_t scan) const;
+  // Object `u` of `held` shifted, by its registered points, beyond what noise explains against
+  // the earliest and the latest sighting of its track within the window, the same way.
+  bool displaced(const Held& held, std::size_t u) const;
+  // The registered shift from `from` to `to` (`seconds` apart, at `range` from the sensor),
+  // when the points pair up and it exceeds the noise floor; else none.
+  std::optional<Eigen::Vector3f> shift(const Eigen::Matrix3Xf& from, const Eigen::Matrix3Xf& to, double seconds,
+                                       float range) const;
   ScoredScan release(Held held);
 
   TrackRule rule_;
   std::size_t window_;
   double margin_;
+  double pose_noise_, pose_noise_deg_;
   std::deque<Held> held_;
+  std::deque<Past> past_;  // the last `window` scans released
   std::size_t next_track_ = 0;
   std::map<std::size_t, std::vector<Sighting>> seen_moving_;  // per track, oldest first
 };

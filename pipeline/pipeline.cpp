@@ -171,7 +171,8 @@ PipelineRun::PipelineRun(const PipelineOptions& options, const PipelineConfig& c
       spill_dir(options.out / ".offline"),
       mask(platform_mask(seq, config.input.platform, &early, kScansInFlight)),
       scorer(config.scorer),
-      tracker(config.scorer.tracks, config.scorer.window_half, config.scorer.objects.radius),
+      tracker(config.scorer.tracks, config.scorer.window_half, config.scorer.objects.radius,
+              config.scorer.pose_noise, config.scorer.pose_noise_deg),
       dynamic_cloud(0.0),
       static_cloud(seq.world_frame ? 0.0 : options.mapping ? config.mapping.cloud_voxel : 0.05),
       raw_cloud(seq.world_frame ? 0.0 : options.mapping ? config.mapping.cloud_voxel : 0.05) {
