@@ -51,8 +51,9 @@ struct PipelineItem {
   std::vector<std::pair<ScoredScan, std::vector<std::uint32_t>>> scored;
 };
 
-// Scans in the first pass's stages at once (pipeline.cpp explains the number).
-inline constexpr std::size_t kScansInFlight = 8;
+// Scans in the first pass's stages at once, online and offline (pipeline.cpp explains them).
+inline constexpr std::size_t kScansInFlightOnline = 8, kScansInFlightOffline = 5;
+inline std::size_t scans_in_flight(bool offline) { return offline ? kScansInFlightOffline : kScansInFlightOnline; }
 
 struct PipelineRun {
   PipelineRun(const PipelineOptions& options, const PipelineConfig& config);
@@ -94,7 +95,7 @@ struct PipelineRun {
   Sequence seq;  // OnlineMapper appends each pushed scan's time and pose
   const bool offline, use_odometry;
   const std::filesystem::path mos_dir, spill_dir;
-  // The first kScansInFlight of the scans the platform mask was learnt from (read before
+  // The first scans_in_flight() of the scans the platform mask was learnt from (read before
   // `mask`), each taken by load(): reading the street's first 20 sweeps twice cost 0.3 s of its
   // 7.7 s online run. Keeping all 20 raised the offline peak 387 -> 424 MB; the first scans in
   // flight are held at the start anyway.
