@@ -224,7 +224,7 @@ std::vector<ScoredScan> ObjectTracker::push(ScoredScan scan) {
     out.push_back(std::move(scan));
     return out;
   }
-  Held now{std::move(scan), {}};
+  Held now{std::move(scan), {}, {}};
   chain(now);
   held_.push_back(std::move(now));
   // A scan is final once the `window` scans after it are in.
