@@ -97,8 +97,9 @@ struct PipelineRun {
   const std::filesystem::path mos_dir, spill_dir;
   // The first scans_in_flight() of the scans the platform mask was learnt from (read before
   // `mask`), each taken by load(): reading the street's first 20 sweeps twice cost 0.3 s of its
-  // 7.7 s online run. Keeping all 20 raised the offline peak 387 -> 424 MB; the first scans in
-  // flight are held at the start anyway.
+  // 7.7 s online run. Only the first scans in flight are kept, as the pipeline holds that many
+  // at its start anyway (the street's offline peak moves 30-60 MB between runs of one binary, so
+  // keeping all 20, about 100 MB of sweeps, could not be told from it by /usr/bin/time).
   std::vector<std::optional<LoadedScan>> early;
   PlatformMask mask;  // OnlineMapper learns it from the first scans pushed
 
